@@ -1,0 +1,43 @@
+# planeloc_module(NAME name DEPS ...)
+# One static library per folder of src/planeloc/: every *.cc that is not a *_test.cc belongs to it,
+# every *_test.cc goes into one GoogleTest binary `planeloc_<name>_test`, registered with ctest.
+# Globbing (CONFIGURE_DEPENDS) lets a module grow a file without touching CMake.
+function(planeloc_compile_flags target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra)
+  if(PLANELOC_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+function(planeloc_module)
+  cmake_parse_arguments(ARG "" "NAME" "DEPS;TEST_DEPS" ${ARGN})
+  set(dir ${CMAKE_CURRENT_SOURCE_DIR}/${ARG_NAME})
+  file(GLOB srcs CONFIGURE_DEPENDS ${dir}/*.cc)
+  file(GLOB tests CONFIGURE_DEPENDS ${dir}/*_test.cc)
+  if(tests)
+    list(REMOVE_ITEM srcs ${tests})
+  endif()
+  set(target planeloc_${ARG_NAME})
+  if(NOT srcs)
+    # A module that has only headers so far.
+    add_library(${target} INTERFACE)
+    target_include_directories(${target} INTERFACE ${PROJECT_SOURCE_DIR}/src)
+    target_link_libraries(${target} INTERFACE ${ARG_DEPS})
+  else()
+    add_library(${target} STATIC ${srcs})
+    target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR}/src)
+    target_link_libraries(${target} PUBLIC ${ARG_DEPS})
+    planeloc_compile_flags(${target})
+  endif()
+  if(PLANELOC_BUILD_TESTS AND tests)
+    add_executable(${target}_test ${tests})
+    target_link_libraries(${target}_test PRIVATE ${target} ${ARG_TEST_DEPS} GTest::gtest GTest::gtest_main)
+    target_compile_definitions(${target}_test PRIVATE
+      PLANELOC_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+    planeloc_compile_flags(${target}_test)
+    gtest_discover_tests(${target}_test
+      WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+      DISCOVERY_TIMEOUT 60
+      PROPERTIES LABELS ${ARG_NAME})
+  endif()
+endfunction()

@@ -1,0 +1,46 @@
+#include "planeloc/geometry/plane.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace planeloc {
+
+Plane::Plane(const Eigen::Vector3d& n, double offset) {
+  const double norm = n.norm();
+  if (!(norm > 1e-12) || !std::isfinite(norm)) throw std::invalid_argument("plane: zero normal");
+  normal = n / norm;
+  d = offset / norm;
+}
+
+Plane Plane::FromPointAndNormal(const Eigen::Vector3d& point, const Eigen::Vector3d& n) {
+  const Eigen::Vector3d unit = n.normalized();
+  return Plane(unit, -unit.dot(point));
+}
+
+Plane Plane::Fit(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 3) throw std::invalid_argument("plane fit needs at least 3 points");
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& p : points) centroid += p;
+  centroid /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) covariance += (p - centroid) * (p - centroid).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  // Eigenvalues ascending: a plane needs the middle one clearly above zero (points not on a line).
+  if (solver.eigenvalues()(1) <= 1e-12 * std::max(1.0, solver.eigenvalues()(2))) {
+    throw std::invalid_argument("plane fit: points are collinear");
+  }
+  return FromPointAndNormal(centroid, solver.eigenvectors().col(0));
+}
+
+Plane Plane::Transformed(const Rigid3d& b_from_a) const {
+  const Eigen::Vector3d normal_in_b = b_from_a.rotation * normal;
+  return Plane(normal_in_b, d - normal_in_b.dot(b_from_a.translation));
+}
+
+double Plane::AngleTo(const Plane& other) const {
+  return std::acos(std::clamp(std::abs(normal.dot(other.normal)), 0.0, 1.0));
+}
+
+}  // namespace planeloc

@@ -1,0 +1,36 @@
+// An infinite plane n . x + d = 0 with |n| = 1, expressed in the frame its name says
+// (e.g. `plane_in_map`). Signed distance of x: n . x + d.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "planeloc/geometry/rigid3.h"
+
+namespace planeloc {
+
+struct Plane {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit
+  double d = 0.0;                                      // metres
+
+  Plane() = default;
+  // Normalizes (normal, d) jointly; throws std::invalid_argument for a zero normal.
+  Plane(const Eigen::Vector3d& normal, double d);
+  static Plane FromPointAndNormal(const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
+  // Total-least-squares fit (smallest eigenvector of the covariance); needs >= 3 points not on a
+  // line, else throws std::invalid_argument.
+  static Plane Fit(const std::vector<Eigen::Vector3d>& points);
+
+  double SignedDistance(const Eigen::Vector3d& point) const { return normal.dot(point) + d; }
+  Eigen::Vector3d Project(const Eigen::Vector3d& point) const {
+    return point - SignedDistance(point) * normal;
+  }
+  // The same plane with the opposite orientation.
+  Plane Flipped() const { return Plane(-normal, -d); }
+  // Expresses this plane (given in frame A) in frame B: b_from_a maps points of A to B.
+  Plane Transformed(const Rigid3d& b_from_a) const;
+  // Angle between the normals in radians, orientation-insensitive (in [0, pi/2]).
+  double AngleTo(const Plane& other) const;
+};
+
+}  // namespace planeloc
