@@ -1,0 +1,91 @@
+// Lazy reader of a rectified stereo sequence in KITTI layout: the odometry layout
+// (`sequences/XX/{image_0,image_1}`, `calib.txt`, `times.txt`, `velodyne/`, and optional
+// `poses/XX.txt` two levels up) or the raw layout (`YYYY_MM_DD_drive_NNNN_sync/image_0X/data`,
+// `calib_cam_to_cam.txt` one level up or beside, `calib_velo_to_cam.txt`, `oxts/data`).
+//
+// Images are read one frame at a time (a 4 500-frame sequence never sits in memory). All
+// errors are planeloc::InputError naming the file, line and fix.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "planeloc/geometry/camera.h"
+#include "planeloc/geometry/rigid3.h"
+
+namespace planeloc {
+
+enum class CameraChoice {
+  kAuto,   // grey pair if present, else colour pair
+  kGrey,   // image_0/1 (odometry) or image_00/01 (raw)
+  kColor,  // image_2/3 (odometry) or image_02/03 (raw), converted to grey
+};
+// "auto" | "grey" | "gray" | "color" | "colour"; throws InputError otherwise.
+CameraChoice ParseCameraChoice(const std::string& name);
+
+enum class KittiLayout { kOdometry, kRaw };
+
+struct StereoPair {
+  cv::Mat left;   // CV_8UC1, rectified
+  cv::Mat right;  // CV_8UC1, rectified, same size as left
+};
+
+class KittiSequence {
+ public:
+  // Detects the layout from the folder's contents. Reads calibration, timestamps and the list of
+  // frames; decodes no image.
+  static KittiSequence Open(const std::filesystem::path& folder,
+                            CameraChoice cameras = CameraChoice::kAuto);
+
+  KittiLayout layout() const { return layout_; }
+  const std::filesystem::path& folder() const { return folder_; }
+  std::size_t size() const { return timestamps_.size(); }
+  // Rectified stereo camera of the chosen pair, image size taken from the first left image.
+  const StereoCamera& camera() const { return camera_; }
+  // Seconds from the first frame (odometry: times.txt; raw: the date-time strings).
+  double timestamp(std::size_t index) const { return timestamps_.at(index); }
+  const std::vector<double>& timestamps() const { return timestamps_; }
+  std::filesystem::path left_image_path(std::size_t index) const;
+  std::filesystem::path right_image_path(std::size_t index) const;
+  // Decodes frame `index`. Throws InputError if a file is missing or does not decode, or if left
+  // and right sizes differ from each other or from camera().
+  StereoPair LoadStereoPair(std::size_t index) const;
+  // True when both image files of frame `index` exist (for skipping missing frames mid-sequence).
+  bool HasFrame(std::size_t index) const;
+
+  // cam_from_velo: LiDAR (Velodyne) to the chosen left rectified camera frame, when calibrated
+  // (odometry: `Tr` of calib.txt; raw: calib_velo_to_cam.txt with R_rect_00 and the camera offset).
+  const std::optional<Rigid3d>& cam_from_velo() const { return cam_from_velo_; }
+  // Velodyne scan file of frame `index`, if the sequence has one.
+  std::optional<std::filesystem::path> velodyne_path(std::size_t index) const;
+
+  // Ground-truth world_from_cam of the chosen left camera, first pose identity, when available
+  // (odometry: ../../poses/XX.txt; raw: OXTS packets through the KITTI devkit's Mercator
+  // projection and the IMU->velo->cam calibration).
+  const std::optional<std::vector<Rigid3d>>& ground_truth() const { return ground_truth_; }
+
+ private:
+  KittiLayout layout_ = KittiLayout::kOdometry;
+  std::filesystem::path folder_;
+  std::vector<std::filesystem::path> left_images_;
+  std::vector<std::filesystem::path> right_images_;
+  std::vector<std::optional<std::filesystem::path>> velodyne_scans_;
+  std::vector<double> timestamps_;
+  StereoCamera camera_;
+  std::optional<Rigid3d> cam_from_velo_;
+  std::optional<std::vector<Rigid3d>> ground_truth_;
+};
+
+// One Velodyne scan: float32 x, y, z, reflectance per point (sensor frame: x forward, y left,
+// z up). Throws InputError if the file is missing or its size is not a multiple of 16 bytes.
+struct VelodyneScan {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<float> reflectance;
+};
+VelodyneScan ReadVelodyneScan(const std::filesystem::path& path);
+void WriteVelodyneScan(const std::filesystem::path& path, const VelodyneScan& scan);
+
+}  // namespace planeloc

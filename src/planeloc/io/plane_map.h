@@ -1,0 +1,37 @@
+// The plane map: planes extracted from a LiDAR map, as stored in planes.json:
+//   {"planes":[{"id":int,"normal":[nx,ny,nz],"d":float,"centroid":[..],"inliers":int,"rms":float,
+//               "area":float,"polygon":[[x,y,z],...]}], "stats":{...}}
+// with n . x + d = 0, |n| = 1, all in map coordinates. The simulator's planes_gt.json uses the
+// same reader ("kind" is optional there, missing fields default to zero).
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "planeloc/geometry/plane.h"
+
+namespace planeloc {
+
+struct MapPlane {
+  int id = 0;
+  Plane plane_in_map;
+  std::string kind;  // "ground" | "facade" | "other" | "" (unknown)
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  int inliers = 0;
+  double rms = 0.0;   // metres, RMS point-to-plane distance of the inliers
+  double area = 0.0;  // square metres of the polygon
+  std::vector<Eigen::Vector3d> polygon;  // outline in map coordinates, on the plane
+};
+
+struct PlaneMap {
+  std::vector<MapPlane> planes;
+  nlohmann::json stats = nlohmann::json::object();
+};
+
+// Throws InputError naming the file (and the plane index) on a malformed document.
+PlaneMap ReadPlaneMap(const std::filesystem::path& path);
+void WritePlaneMap(const std::filesystem::path& path, const PlaneMap& map);
+
+}  // namespace planeloc

@@ -1,0 +1,73 @@
+// Sliding-window bundle adjustment with optional LiDAR point-to-plane constraints:
+//   E = lambda * sum rho(|r_reproj|^2_info) + (1 - lambda) * sum rho(|r_plane / sigma_plane|^2)
+// over the window's keyframe poses (cam_from_world) and the points they observe. Keyframes that
+// observe window points but are outside the window are held fixed (anchors), like ORB-SLAM2's
+// local BA. A point with a `plane_id` gets one point-to-plane residual against that map plane.
+// With lambda = 1 (or no planes) it is exactly the visual local BA of the baseline.
+#pragma once
+
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "planeloc/geometry/camera.h"
+#include "planeloc/geometry/plane.h"
+#include "planeloc/geometry/rigid3.h"
+
+namespace planeloc {
+
+struct WindowKeyframe {
+  int id = 0;
+  Rigid3d cam_from_world;
+  bool fixed = false;  // anchors and the gauge: at least one keyframe must be fixed
+};
+
+struct WindowPoint {
+  int id = 0;
+  Eigen::Vector3d point_in_world = Eigen::Vector3d::Zero();
+  std::optional<int> plane_id;  // id of a WindowPlane this point lies on
+};
+
+struct WindowObservation {
+  int keyframe_id = 0;
+  int point_id = 0;
+  double u_left = 0, v = 0, u_right = -1;  // pixels; u_right < 0: monocular
+  double information = 1.0;                // 1 / sigma^2, 1/px^2
+};
+
+struct WindowPlane {
+  int id = 0;
+  Plane plane_in_world;  // fixed: the LiDAR prior
+};
+
+struct WindowProblem {
+  std::vector<WindowKeyframe> keyframes;
+  std::vector<WindowPoint> points;
+  std::vector<WindowObservation> observations;
+  std::vector<WindowPlane> planes;
+};
+
+struct WindowBaOptions {
+  double lambda = 1.0;            // weight of the reprojection term in [0, 1]; 1 = visual only
+  double plane_sigma = 0.05;      // metres: point-to-plane residual whitening
+  double plane_huber = 0.2;       // metres: robust threshold of the plane term
+  double chi2_mono = 5.991;
+  double chi2_stereo = 7.815;
+  int iterations = 10;            // per round; two rounds with outlier removal between
+  int num_threads = 1;
+  void Check() const;
+};
+
+struct WindowBaResult {
+  std::map<int, Rigid3d> cam_from_world;            // every non-fixed keyframe, by id
+  std::map<int, Eigen::Vector3d> point_in_world;    // every point, by id
+  std::vector<bool> observation_inlier;             // aligned with problem.observations
+  double initial_cost = 0, final_cost = 0;
+  bool usable = false;                              // ceres::Solver::Summary::IsSolutionUsable
+};
+
+WindowBaResult SolveWindowBa(const StereoCamera& camera, const WindowProblem& problem,
+                             const WindowBaOptions& options);
+
+}  // namespace planeloc
