@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Every bad input must give exit code 2 and a message naming the offending file (and line).
+# Usage: cli_bad_input_test.sh path/to/planeloc
+set -u
+planeloc="$1"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+
+# expect_error NAME EXPECTED_SUBSTRING -- command...
+expect_error() {
+  local name="$1" needle="$2"
+  shift 3
+  local output code
+  output="$("$@" 2>&1)"
+  code=$?
+  if [ "$code" -eq 2 ] && grep -qF -- "$needle" <<<"$output"; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL $name: exit $code, expected 2 and '$needle' in:"
+    echo "$output" | head -5
+  fi
+}
+
+# A valid 3-pose KITTI trajectory and broken variants.
+printf '1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n1 0 0 2 0 1 0 0 0 0 1 0\n' >"$work/gt.txt"
+printf '1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1\n1 0 0 2 0 1 0 0 0 0 1 0\n' >"$work/eleven.txt"
+printf '1 0 0 0 0 1 0 0 0 0 1 0\nnan 0 0 1 0 1 0 0 0 0 1 0\n1 0 0 2 0 1 0 0 0 0 1 0\n' >"$work/nan.txt"
+printf '1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n' >"$work/short.txt"
+printf '0.0 0 0 0 0 0 0 1\n0.1 1 0 0 0 0 0 1\n' >"$work/tum_a.txt"
+printf '5.0 0 0 0 0 0 0 1\n5.1 1 0 0 0 0 0 1\n' >"$work/tum_b.txt"
+
+expect_error "unknown subcommand" "" -- "$planeloc" frobnicate
+expect_error "eval missing gt" "$work/missing.txt" -- \
+  "$planeloc" eval --gt "$work/missing.txt" --est "$work/gt.txt"
+expect_error "eval 11 numbers" "eleven.txt:2" -- \
+  "$planeloc" eval --gt "$work/gt.txt" --est "$work/eleven.txt"
+expect_error "eval NaN" "nan.txt:2" -- "$planeloc" eval --gt "$work/gt.txt" --est "$work/nan.txt"
+expect_error "eval length mismatch" "short.txt" -- \
+  "$planeloc" eval --gt "$work/gt.txt" --est "$work/short.txt"
+expect_error "eval tum no overlap" "tum_b.txt" -- \
+  "$planeloc" eval --format tum --gt "$work/tum_a.txt" --est "$work/tum_b.txt"
+
+expect_error "sim unknown preset" "bogus" -- "$planeloc" sim --out "$work/sim" --preset bogus
+expect_error "sim zero frames" "frames" -- "$planeloc" sim --out "$work/sim0" --frames 0
+mkdir -p "$work/nonempty" && touch "$work/nonempty/file"
+expect_error "sim non-empty out" "nonempty" -- "$planeloc" sim --out "$work/nonempty" --preset tiny
+
+expect_error "run missing sequence" "$work/nope" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --out "$work/t.txt"
+
+: >"$work/empty.xyz"
+expect_error "map planes empty map" "empty.xyz" -- \
+  "$planeloc" map planes --map "$work/empty.xyz" --out "$work/planes.json"
+printf '1 2 3\nnan 1 2\n' >"$work/nan.xyz"
+expect_error "map planes NaN point" "nan.xyz" -- \
+  "$planeloc" map planes --map "$work/nan.xyz" --out "$work/planes.json"
+expect_error "map build missing sequence" "$work/noseq" -- \
+  "$planeloc" map build --sequence "$work/noseq" --poses "$work/gt.txt" --out "$work/m.pcd"
+
+echo "cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
