@@ -1,0 +1,110 @@
+#include "planeloc/io/point_cloud.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <limits>
+
+#include "planeloc/util/error.h"
+#include "planeloc/util/temp_dir.h"
+
+namespace planeloc {
+namespace {
+
+PointCloud ThreePoints() {
+  PointCloud cloud;
+  cloud.points = {{1.0, 2.0, 3.0}, {-4.5, 0.25, 7.0}, {0.0, 0.0, -1.5}};
+  return cloud;
+}
+
+void ExpectSamePoints(const PointCloud& a, const PointCloud& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_LT((a.points[i] - b.points[i]).norm(), 1e-5) << i;
+  }
+}
+
+TEST(PointCloudTest, RoundTripsEveryFormat) {
+  TempDir dir;
+  for (const char* name : {"c.pcd", "c.ply", "c.xyz"}) {
+    const auto path = dir.path() / name;
+    WritePointCloud(path, ThreePoints());
+    ExpectSamePoints(ReadPointCloud(path), ThreePoints());
+  }
+}
+
+TEST(PointCloudTest, KeepsColors) {
+  TempDir dir;
+  PointCloud cloud = ThreePoints();
+  cloud.colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  WritePointCloud(dir.path() / "c.ply", cloud);
+  const PointCloud read = ReadPointCloud(dir.path() / "c.ply");
+  ASSERT_TRUE(read.has_colors());
+  EXPECT_NEAR(read.colors[1].y(), 1.0, 1e-2);
+  EXPECT_NEAR(read.colors[1].x(), 0.0, 1e-2);
+}
+
+void WriteText(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+std::string AsciiPcd(const std::string& fields, const std::string& data, int n) {
+  const std::string count = std::to_string(n);
+  return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n" +
+         "WIDTH " + count + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + count +
+         "\nDATA ascii\n" + data;
+}
+
+TEST(PointCloudTest, ReadsAsciiPcd) {
+  TempDir dir;
+  WriteText(dir.path() / "a.pcd", AsciiPcd("x y z", "1 2 3\n4 5 6\n", 2));
+  const PointCloud cloud = ReadPointCloud(dir.path() / "a.pcd");
+  ASSERT_EQ(cloud.size(), 2u);
+  EXPECT_DOUBLE_EQ(cloud.points[1].z(), 6.0);
+}
+
+TEST(PointCloudTest, RejectsUnknownPcdFieldNamingFileAndLine) {
+  TempDir dir;
+  const auto path = dir.path() / "u.pcd";
+  WriteText(path, AsciiPcd("x y label", "1 2 3\n", 1));
+  try {
+    ReadPointCloud(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.path(), path.string());
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(e.problem().find("label"), std::string::npos);
+  }
+}
+
+TEST(PointCloudTest, RejectsNanAndInfNamingThePoint) {
+  TempDir dir;
+  for (double bad :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    PointCloud cloud = ThreePoints();
+    cloud.points[2].y() = bad;
+    const auto path = dir.path() / "bad.ply";
+    WritePointCloud(path, cloud);
+    try {
+      ReadPointCloud(path);
+      FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.path(), path.string());
+      EXPECT_NE(e.problem().find("point 2"), std::string::npos) << e.problem();
+    }
+  }
+}
+
+TEST(PointCloudTest, RejectsEmptyMissingAndUnknownExtension) {
+  TempDir dir;
+  WriteText(dir.path() / "empty.pcd", AsciiPcd("x y z", "", 0));
+  EXPECT_THROW(ReadPointCloud(dir.path() / "empty.pcd"), InputError);
+  WriteText(dir.path() / "empty.xyz", "");
+  EXPECT_THROW(ReadPointCloud(dir.path() / "empty.xyz"), InputError);
+  EXPECT_THROW(ReadPointCloud(dir.path() / "missing.pcd"), InputError);
+  EXPECT_THROW(ReadPointCloud(dir.path() / "cloud.las"), InputError);
+  EXPECT_THROW(WritePointCloud(dir.path() / "cloud.las", ThreePoints()), InputError);
+}
+
+}  // namespace
+}  // namespace planeloc
