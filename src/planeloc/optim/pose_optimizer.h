@@ -16,7 +16,7 @@ namespace planeloc {
 struct PoseObservation {
   Eigen::Vector3d point_in_world;
   double u_left = 0, v = 0, u_right = -1;  // pixels, level 0
-  double information = 1.0;  // 1 / sigma^2 in 1/px^2 (1 / LevelSigma2(octave))
+  double information = 1.0;                // 1 / sigma^2 in 1/px^2 (1 / LevelSigma2(octave))
 };
 
 struct PoseOptimizerOptions {

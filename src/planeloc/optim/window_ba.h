@@ -49,22 +49,22 @@ struct WindowProblem {
 };
 
 struct WindowBaOptions {
-  double lambda = 1.0;            // weight of the reprojection term in [0, 1]; 1 = visual only
-  double plane_sigma = 0.05;      // metres: point-to-plane residual whitening
-  double plane_huber = 0.2;       // metres: robust threshold of the plane term
+  double lambda = 1.0;        // weight of the reprojection term in [0, 1]; 1 = visual only
+  double plane_sigma = 0.05;  // metres: point-to-plane residual whitening
+  double plane_huber = 0.2;   // metres: robust threshold of the plane term
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
-  int iterations = 10;            // per round; two rounds with outlier removal between
+  int iterations = 10;  // per round; two rounds with outlier removal between
   int num_threads = 1;
   void Check() const;
 };
 
 struct WindowBaResult {
-  std::map<int, Rigid3d> cam_from_world;            // every non-fixed keyframe, by id
-  std::map<int, Eigen::Vector3d> point_in_world;    // every point, by id
-  std::vector<bool> observation_inlier;             // aligned with problem.observations
+  std::map<int, Rigid3d> cam_from_world;          // every non-fixed keyframe, by id
+  std::map<int, Eigen::Vector3d> point_in_world;  // every point, by id
+  std::vector<bool> observation_inlier;           // aligned with problem.observations
   double initial_cost = 0, final_cost = 0;
-  bool usable = false;                              // ceres::Solver::Summary::IsSolutionUsable
+  bool usable = false;  // ceres::Solver::Summary::IsSolutionUsable
 };
 
 WindowBaResult SolveWindowBa(const StereoCamera& camera, const WindowProblem& problem,

@@ -1,0 +1,227 @@
+// Ceres residuals of planeloc's optimization problems.
+//
+// Parameterization (all functors): a pose cam_from_world is two parameter blocks,
+//   q = [qx, qy, qz, qw]  (Eigen's storage order; use ceres::EigenQuaternionManifold)
+//   t = [tx, ty, tz]      (metres)
+// so that x_cam = R(q) * x_world + t (geometry/rigid3.h). A point is one block point_in_world [3].
+//
+// Reprojection (camera/stereo model in geometry/camera.h): with p = R(q) X + t = (px, py, pz),
+//   u_L = fx px / pz + cx,   v = fy py / pz + cy,   u_R = u_L - bf / pz     (bf = fx * baseline)
+// and the residual is the measurement minus the projection, whitened by the square root of the
+// (isotropic) information 1 / sigma^2 of the keypoint's pyramid level:
+//   r = sqrt(info) * ([u_L, v, u_R]_observed - [u_L, v, u_R](p))          (stereo, 3 rows)
+//   r = sqrt(info) * ([u_L, v]_observed - [u_L, v](p))                     (mono, 2 rows)
+// so |r|^2 is chi-square distributed with 3 (2) DoF for inliers, which is what the chi2
+// thresholds and the Huber delta = sqrt(chi2) of ORB-SLAM2 are expressed in.
+// Points at or behind the camera (pz <= kMinDepth) make the functor return false: Ceres then
+// rejects the step that moved them there; callers must drop such observations before solving.
+//
+// Point-to-plane (the paper's E_point-to-plane): for a fixed plane n . x + d = 0 (|n| = 1),
+//   r = (n . X + d) / sigma_plane                                           (1 row, metres/metres)
+// The lambda weighting of the paper's total cost lambda * E_reproj + (1 - lambda) * E_plane is NOT
+// inside these functors: callers wrap each residual's loss in ceres::ScaledLoss(lambda) or
+// ceres::ScaledLoss(1 - lambda) (see window_ba.cc), so each functor stays a pure whitened residual.
+#pragma once
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "planeloc/geometry/camera.h"
+#include "planeloc/geometry/plane.h"
+
+namespace planeloc {
+
+// Points closer than this (metres, along the optical axis) are treated as invalid projections.
+inline constexpr double kMinDepth = 1e-3;
+
+// Intrinsics copied into the functors (value type, so functors own no references).
+struct PinholeStereoIntrinsics {
+  double fx = 0, fy = 0, cx = 0, cy = 0, bf = 0;
+  static PinholeStereoIntrinsics From(const StereoCamera& camera) {
+    return {camera.fx, camera.fy, camera.cx, camera.cy, camera.BaselineTimesFx()};
+  }
+};
+
+// Stereo reprojection error of a point in a pose; parameter blocks q[4], t[3], X[3]; 3 residuals.
+class StereoReprojectionError {
+ public:
+  StereoReprojectionError(const PinholeStereoIntrinsics& k, const Eigen::Vector3d& observed,
+                          double sqrt_information)
+      : k_(k), observed_(observed), sqrt_information_(sqrt_information) {}
+
+  template <typename T>
+  bool operator()(const T* const q, const T* const t, const T* const point, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> rotation(q);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> translation(t);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> point_in_world(point);
+    const Eigen::Matrix<T, 3, 1> p = rotation * point_in_world + translation;
+    if (p[2] <= T(kMinDepth)) return false;
+    const T inv_z = T(1) / p[2];
+    const T u_left = T(k_.fx) * p[0] * inv_z + T(k_.cx);
+    residual[0] = T(sqrt_information_) * (T(observed_[0]) - u_left);
+    residual[1] = T(sqrt_information_) * (T(observed_[1]) - (T(k_.fy) * p[1] * inv_z + T(k_.cy)));
+    residual[2] = T(sqrt_information_) * (T(observed_[2]) - (u_left - T(k_.bf) * inv_z));
+    return true;
+  }
+
+  // `observed` = (u_L, v, u_R) in pixels; information = 1 / sigma^2 (1/px^2).
+  static ceres::CostFunction* Create(const PinholeStereoIntrinsics& k,
+                                     const Eigen::Vector3d& observed, double information) {
+    return new ceres::AutoDiffCostFunction<StereoReprojectionError, 3, 4, 3, 3>(
+        new StereoReprojectionError(k, observed, std::sqrt(information)));
+  }
+
+ private:
+  const PinholeStereoIntrinsics k_;
+  const Eigen::Vector3d observed_;
+  const double sqrt_information_;
+};
+
+// Monocular reprojection error (left image only); blocks q[4], t[3], X[3]; 2 residuals.
+class MonoReprojectionError {
+ public:
+  MonoReprojectionError(const PinholeStereoIntrinsics& k, const Eigen::Vector2d& observed,
+                        double sqrt_information)
+      : k_(k), observed_(observed), sqrt_information_(sqrt_information) {}
+
+  template <typename T>
+  bool operator()(const T* const q, const T* const t, const T* const point, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> rotation(q);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> translation(t);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> point_in_world(point);
+    const Eigen::Matrix<T, 3, 1> p = rotation * point_in_world + translation;
+    if (p[2] <= T(kMinDepth)) return false;
+    const T inv_z = T(1) / p[2];
+    residual[0] = T(sqrt_information_) * (T(observed_[0]) - (T(k_.fx) * p[0] * inv_z + T(k_.cx)));
+    residual[1] = T(sqrt_information_) * (T(observed_[1]) - (T(k_.fy) * p[1] * inv_z + T(k_.cy)));
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const PinholeStereoIntrinsics& k,
+                                     const Eigen::Vector2d& observed, double information) {
+    return new ceres::AutoDiffCostFunction<MonoReprojectionError, 2, 4, 3, 3>(
+        new MonoReprojectionError(k, observed, std::sqrt(information)));
+  }
+
+ private:
+  const PinholeStereoIntrinsics k_;
+  const Eigen::Vector2d observed_;
+  const double sqrt_information_;
+};
+
+// Pose-only reprojection error with the point fixed (motion-only BA), analytic Jacobians.
+// kResiduals = 3 (stereo) or 2 (mono); blocks q[4], t[3].
+// Jacobians, with p = R(q) X + t, q = (v, w), v = (qx, qy, qz):
+//   d proj / d p = [fx/pz, 0, -fx px/pz^2; 0, fy/pz, -fy py/pz^2; fx/pz, 0, -(fx px - bf)/pz^2]
+//   d p / d t = I
+//   d p / d w = 2 v x X
+//   d p / d v = -2 w [X]x + 2 ((v . X) I + v X^T - 2 X v^T)
+// The last two differentiate Eigen's q * X = X + 2 w (v x X) + 2 v x (v x X), which is the
+// ambient function Ceres sees (EigenQuaternionManifold's PlusJacobian maps them to the tangent
+// space), so they agree with autodiff of StereoReprojectionError exactly.
+template <int kResiduals>
+class PoseOnlyReprojectionError : public ceres::SizedCostFunction<kResiduals, 4, 3> {
+  static_assert(kResiduals == 2 || kResiduals == 3);
+
+ public:
+  // `observed` holds (u_L, v[, u_R]) in pixels.
+  PoseOnlyReprojectionError(const PinholeStereoIntrinsics& k,
+                            const Eigen::Matrix<double, kResiduals, 1>& observed,
+                            const Eigen::Vector3d& point_in_world, double information)
+      : k_(k),
+        observed_(observed),
+        point_in_world_(point_in_world),
+        sqrt_information_(std::sqrt(information)) {}
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+  const Eigen::Vector3d& point_in_world() const { return point_in_world_; }
+
+ private:
+  const PinholeStereoIntrinsics k_;
+  const Eigen::Matrix<double, kResiduals, 1> observed_;
+  const Eigen::Vector3d point_in_world_;
+  const double sqrt_information_;
+};
+
+using StereoPoseOnlyError = PoseOnlyReprojectionError<3>;
+using MonoPoseOnlyError = PoseOnlyReprojectionError<2>;
+
+// Point-to-plane distance of a free point to a fixed plane; block X[3]; 1 residual.
+class PointToPlaneError {
+ public:
+  PointToPlaneError(const Plane& plane, double sigma)
+      : normal_(plane.normal), d_(plane.d), inv_sigma_(1.0 / sigma) {}
+
+  template <typename T>
+  bool operator()(const T* const point, T* residual) const {
+    residual[0] = T(inv_sigma_) * (T(normal_[0]) * point[0] + T(normal_[1]) * point[1] +
+                                   T(normal_[2]) * point[2] + T(d_));
+    return true;
+  }
+
+  // sigma in metres (> 0): the standard deviation of the point-to-plane distance.
+  static ceres::CostFunction* Create(const Plane& plane, double sigma) {
+    return new ceres::AutoDiffCostFunction<PointToPlaneError, 1, 3>(
+        new PointToPlaneError(plane, sigma));
+  }
+
+ private:
+  const Eigen::Vector3d normal_;
+  const double d_;
+  const double inv_sigma_;
+};
+
+// ---- implementation of the analytic pose-only residual ----
+
+template <int kResiduals>
+bool PoseOnlyReprojectionError<kResiduals>::Evaluate(double const* const* parameters,
+                                                     double* residuals, double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> rotation(parameters[0]);
+  const Eigen::Map<const Eigen::Vector3d> translation(parameters[1]);
+  const Eigen::Vector3d& x = point_in_world_;
+  const Eigen::Vector3d p = rotation * x + translation;
+  if (p.z() <= kMinDepth) return false;
+  const double inv_z = 1.0 / p.z();
+  const double u_left = k_.fx * p.x() * inv_z + k_.cx;
+  Eigen::Map<Eigen::Matrix<double, kResiduals, 1>> r(residuals);
+  r[0] = sqrt_information_ * (observed_[0] - u_left);
+  r[1] = sqrt_information_ * (observed_[1] - (k_.fy * p.y() * inv_z + k_.cy));
+  if constexpr (kResiduals == 3)
+    r[2] = sqrt_information_ * (observed_[2] - (u_left - k_.bf * inv_z));
+  if (jacobians == nullptr) return true;
+
+  // d r / d p = -sqrt_info * d proj / d p.
+  const double inv_z2 = inv_z * inv_z;
+  const double s = -sqrt_information_;
+  Eigen::Matrix<double, kResiduals, 3> dr_dp;
+  dr_dp.row(0) << s * k_.fx * inv_z, 0.0, -s * k_.fx * p.x() * inv_z2;
+  dr_dp.row(1) << 0.0, s * k_.fy * inv_z, -s * k_.fy * p.y() * inv_z2;
+  if constexpr (kResiduals == 3) {
+    dr_dp.row(2) << s * k_.fx * inv_z, 0.0, -s * (k_.fx * p.x() - k_.bf) * inv_z2;
+  }
+  if (jacobians[0] != nullptr) {
+    const Eigen::Vector3d v = rotation.vec();
+    const double w = rotation.w();
+    Eigen::Matrix<double, 3, 4> dp_dq;
+    Eigen::Matrix3d x_hat;
+    x_hat << 0.0, -x.z(), x.y(), x.z(), 0.0, -x.x(), -x.y(), x.x(), 0.0;
+    dp_dq.leftCols<3>() = -2.0 * w * x_hat + 2.0 * (v.dot(x) * Eigen::Matrix3d::Identity() +
+                                                    v * x.transpose() - 2.0 * x * v.transpose());
+    dp_dq.col(3) = 2.0 * v.cross(x);
+    Eigen::Map<Eigen::Matrix<double, kResiduals, 4, Eigen::RowMajor>> dr_dq(jacobians[0]);
+    dr_dq = dr_dp * dp_dq;
+  }
+  if (jacobians[1] != nullptr) {
+    Eigen::Map<Eigen::Matrix<double, kResiduals, 3, Eigen::RowMajor>> dr_dt(jacobians[1]);
+    dr_dt = dr_dp;
+  }
+  return true;
+}
+
+}  // namespace planeloc
