@@ -32,6 +32,13 @@ Trajectory ReadKittiTrajectory(const std::filesystem::path& path,
 Trajectory ReadTumTrajectory(const std::filesystem::path& path);
 Trajectory ReadTrajectory(const std::filesystem::path& path, TrajectoryFormat format);
 
+// The rows of a KITTI pose file exactly as written, without the re-orthonormalization that
+// Rigid3d applies: this is what evo evaluates, so the evaluator uses it to match evo to 1e-6.
+// Same validation and errors as ReadKittiTrajectory.
+std::vector<Eigen::Matrix<double, 3, 4>> ReadKittiPoseMatrices(const std::filesystem::path& path);
+// A times.txt: one timestamp (seconds) a line; blank lines ignored.
+std::vector<double> ReadTimestamps(const std::filesystem::path& path);
+
 void WriteKittiTrajectory(const std::filesystem::path& path, const Trajectory& trajectory);
 void WriteTumTrajectory(const std::filesystem::path& path, const Trajectory& trajectory);
 
@@ -49,8 +56,10 @@ class TrajectoryWriter {
 };
 
 // Pairs of indices (reference, estimate) whose timestamps differ by at most `max_difference`
-// seconds, matching evo's `associate_trajectories` (for each estimate stamp the closest reference
-// stamp, unique matches only). Throws InputError (naming the files via `what`) when none match.
+// seconds, matching evo's `associate_trajectories`: every stamp of the shorter list (the estimate
+// when both are equally long) is matched to the closest stamp of the longer list (first one on a
+// tie) and kept when the difference is <= max_difference. Pairs are ordered by the shorter list.
+// Throws InputError when none match.
 std::vector<std::pair<std::size_t, std::size_t>> AssociateByTimestamp(
     const std::vector<double>& reference, const std::vector<double>& estimate,
     double max_difference = 0.01);
