@@ -8,8 +8,8 @@
 #pragma once
 
 #include <filesystem>
-#include <optional>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +17,8 @@
 #include "planeloc/geometry/rigid3.h"
 
 namespace planeloc {
+
+class KittiCalibFile;
 
 enum class CameraChoice {
   kAuto,   // grey pair if present, else colour pair
@@ -68,6 +70,19 @@ class KittiSequence {
   const std::optional<std::vector<Rigid3d>>& ground_truth() const { return ground_truth_; }
 
  private:
+  void OpenOdometry(CameraChoice cameras);
+  void OpenRaw(CameraChoice cameras);
+  // True for the colour pair; throws InputError when the requested pair is absent.
+  bool ChooseColour(CameraChoice cameras, const std::filesystem::path& grey_left,
+                    const std::filesystem::path& colour_left) const;
+  // Fills the image lists; left and right must hold the same file names.
+  void ListFrames(const std::filesystem::path& left_dir, const std::filesystem::path& right_dir);
+  void SetCameraFromCalib(const KittiCalibFile& calib, const std::string& left_key,
+                          const std::string& right_key);
+  void SetVelodyneScans(const std::filesystem::path& velodyne_dir);
+  // Raw layout: ground truth from oxts/data when present (needs cam_from_velo_).
+  void LoadOxtsGroundTruth();
+
   KittiLayout layout_ = KittiLayout::kOdometry;
   std::filesystem::path folder_;
   std::vector<std::filesystem::path> left_images_;

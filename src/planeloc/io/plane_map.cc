@@ -1,0 +1,175 @@
+#include "planeloc/io/plane_map.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <set>
+
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+using nlohmann::json;
+
+// |n| may deviate from 1 by this much (rounding of a written file) before it is an error.
+constexpr double kNormalTolerance = 1e-3;
+
+const char* kSchemaFix =
+    "planes.json holds {\"planes\":[{\"id\":int,\"normal\":[nx,ny,nz],\"d\":number,...}]}; "
+    "regenerate it with `planeloc map`";
+
+// Validates one plane's fields; `where` names the plane for messages ("plane 3").
+class PlaneReader {
+ public:
+  PlaneReader(const std::string& path, const json& object, std::string where)
+      : path_(path), object_(object), where_(std::move(where)) {}
+
+  void Fail(const std::string& what) const {
+    throw InputError(path_, fmt::format("{}: {}", where_, what), kSchemaFix);
+  }
+
+  double Number(const json& value, const std::string& field) const {
+    if (!value.is_number()) Fail(fmt::format("`{}` is not a number", field));
+    const double number = value.get<double>();
+    if (!std::isfinite(number)) Fail(fmt::format("`{}` is not finite", field));
+    return number;
+  }
+
+  Eigen::Vector3d Vector(const json& value, const std::string& field) const {
+    if (!value.is_array() || value.size() != 3) {
+      Fail(fmt::format("`{}` must be an array of 3 numbers", field));
+    }
+    return Eigen::Vector3d(Number(value[0], field), Number(value[1], field),
+                           Number(value[2], field));
+  }
+
+  bool Has(const std::string& field) const {
+    return object_.contains(field) && !object_[field].is_null();
+  }
+  const json& operator[](const std::string& field) const { return object_[field]; }
+
+  // A required unit normal and offset; a normal within kNormalTolerance of unit length is
+  // normalized together with d (same plane), anything else is an error.
+  Plane ReadPlane() const {
+    if (!Has("normal") || !Has("d")) Fail("`normal` and `d` are required");
+    const Eigen::Vector3d normal = Vector(object_["normal"], "normal");
+    const double d = Number(object_["d"], "d");
+    const double norm = normal.norm();
+    if (std::abs(norm - 1.0) > kNormalTolerance) {
+      Fail(fmt::format("|normal| = {:.6g}, expected 1 (tolerance {})", norm, kNormalTolerance));
+    }
+    return Plane(normal, d);
+  }
+
+  int Integer(const std::string& field, int fallback) const {
+    if (!Has(field)) return fallback;
+    if (!object_[field].is_number_integer()) Fail(fmt::format("`{}` is not an integer", field));
+    return object_[field].get<int>();
+  }
+
+  double OptionalNumber(const std::string& field) const {
+    return Has(field) ? Number(object_[field], field) : 0.0;
+  }
+
+ private:
+  const std::string& path_;
+  const json& object_;
+  std::string where_;
+};
+
+MapPlane ReadMapPlane(const std::string& path, const json& object, std::size_t index) {
+  const PlaneReader reader(path, object, fmt::format("plane {} (0-based)", index));
+  if (!object.is_object()) reader.Fail("is not a JSON object");
+  MapPlane plane;
+  // Without an id a plane is numbered by its position, so ids stay unique.
+  plane.id = reader.Integer("id", static_cast<int>(index));
+  plane.plane_in_map = reader.ReadPlane();
+  if (reader.Has("kind")) {
+    if (!reader["kind"].is_string()) reader.Fail("`kind` is not a string");
+    plane.kind = reader["kind"].get<std::string>();
+  }
+  if (reader.Has("centroid")) plane.centroid = reader.Vector(reader["centroid"], "centroid");
+  plane.inliers = reader.Integer("inliers", 0);
+  if (plane.inliers < 0) reader.Fail("`inliers` is negative");
+  plane.rms = reader.OptionalNumber("rms");
+  plane.area = reader.OptionalNumber("area");
+  if (plane.rms < 0 || plane.area < 0) reader.Fail("`rms` and `area` must be >= 0");
+  if (reader.Has("polygon")) {
+    if (!reader["polygon"].is_array()) reader.Fail("`polygon` is not an array");
+    for (const json& vertex : reader["polygon"]) {
+      plane.polygon.push_back(reader.Vector(vertex, "polygon vertex"));
+    }
+  }
+  return plane;
+}
+
+// 1-based line of a byte offset, for JSON syntax errors.
+int LineOfByte(const std::string& text, std::size_t byte) {
+  const auto end = text.begin() + static_cast<std::ptrdiff_t>(std::min(byte, text.size()));
+  return 1 + static_cast<int>(std::count(text.begin(), end, '\n'));
+}
+
+json VectorJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+}  // namespace
+
+PlaneMap ReadPlaneMap(const std::filesystem::path& path) {
+  std::ifstream stream(path);
+  CheckInput(stream.good(), path.string(), 0, "plane map missing or unreadable",
+             "build it with `planeloc map` or pass the right --planes path");
+  const std::string text((std::istreambuf_iterator<char>(stream)),
+                         std::istreambuf_iterator<char>());
+  json document;
+  try {
+    document = json::parse(text);
+  } catch (const json::parse_error& error) {
+    throw InputError(path.string(), LineOfByte(text, error.byte > 0 ? error.byte - 1 : 0),
+                     fmt::format("invalid JSON: {}", error.what()), "fix the JSON syntax");
+  }
+  CheckInput(document.is_object() && document.contains("planes") && document["planes"].is_array(),
+             path.string(), 0, "no `planes` array at the top level", kSchemaFix);
+  PlaneMap map;
+  std::set<int> ids;
+  for (std::size_t i = 0; i < document["planes"].size(); ++i) {
+    map.planes.push_back(ReadMapPlane(path.string(), document["planes"][i], i));
+    CheckInput(ids.insert(map.planes.back().id).second, path.string(), 0,
+               fmt::format("plane {} (0-based) repeats id {}", i, map.planes.back().id),
+               "plane ids must be unique");
+  }
+  if (document.contains("stats") && !document["stats"].is_null()) {
+    CheckInput(document["stats"].is_object(), path.string(), 0, "`stats` is not an object",
+               kSchemaFix);
+    map.stats = document["stats"];
+  }
+  return map;
+}
+
+void WritePlaneMap(const std::filesystem::path& path, const PlaneMap& map) {
+  json planes = json::array();
+  for (const MapPlane& plane : map.planes) {
+    json polygon = json::array();
+    for (const Eigen::Vector3d& vertex : plane.polygon) polygon.push_back(VectorJson(vertex));
+    planes.push_back({{"id", plane.id},
+                      {"kind", plane.kind},
+                      {"normal", VectorJson(plane.plane_in_map.normal)},
+                      {"d", plane.plane_in_map.d},
+                      {"centroid", VectorJson(plane.centroid)},
+                      {"inliers", plane.inliers},
+                      {"rms", plane.rms},
+                      {"area", plane.area},
+                      {"polygon", polygon}});
+  }
+  const json document = {{"planes", planes}, {"stats", map.stats}};
+  std::ofstream stream(path);
+  CheckInput(stream.good(), path.string(), 0, "cannot open for writing",
+             "check that the folder exists and is writable");
+  // nlohmann writes doubles with max_digits10, so a read-back is bit-exact.
+  stream << document.dump(2) << '\n';
+  CheckInput(stream.good(), path.string(), 0, "write failed", "check the free disk space");
+}
+
+}  // namespace planeloc
