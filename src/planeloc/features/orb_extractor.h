@@ -5,14 +5,15 @@
 // which starves tracking in uniform regions: that is why this is not cv::ORB::detect.
 #pragma once
 
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <vector>
 
 namespace planeloc {
 
 struct OrbOptions {
-  int num_features = 2000;       // per image, summed over levels
-  double scale_factor = 1.2;     // between consecutive pyramid levels
+  int num_features = 2000;    // per image, summed over levels
+  double scale_factor = 1.2;  // between consecutive pyramid levels
   int num_levels = 8;
   int initial_fast_threshold = 20;  // grey levels
   int min_fast_threshold = 7;       // used in cells where the initial one finds nothing
@@ -24,7 +25,7 @@ struct OrbOptions {
 // the pyramid level; `size` the patch diameter at that level; `angle` in degrees.
 struct ImageFeatures {
   std::vector<cv::KeyPoint> keypoints;
-  cv::Mat descriptors;        // N x 32, CV_8U
+  cv::Mat descriptors;           // N x 32, CV_8U
   std::vector<cv::Mat> pyramid;  // the grey image pyramid, level 0 = the input image
 };
 
@@ -42,8 +43,18 @@ class OrbExtractor {
   double ScaleFactor(int level) const { return scale_factors_.at(level); }
   double LevelSigma2(int level) const { return level_sigma2_.at(level); }
   double InverseLevelSigma2(int level) const { return 1.0 / level_sigma2_.at(level); }
+  // Feature budget of each level (sums to num_features).
+  const std::vector<int>& FeaturesPerLevel() const { return features_per_level_; }
+  // The grey pyramid: level l is the input resized by 1/ScaleFactor(l) (sizes rounded).
+  std::vector<cv::Mat> BuildPyramid(const cv::Mat& grey) const;
 
  private:
+  struct LevelFeatures {
+    std::vector<cv::KeyPoint> keypoints;  // level-0 coordinates
+    cv::Mat descriptors;
+  };
+  LevelFeatures ExtractLevel(const cv::Mat& image, int level) const;
+
   OrbOptions options_;
   std::vector<double> scale_factors_;
   std::vector<double> level_sigma2_;
@@ -52,5 +63,7 @@ class OrbExtractor {
 
 // Hamming distance between two 32-byte ORB descriptors (rows of a CV_8U matrix).
 int DescriptorDistance(const cv::Mat& a, const cv::Mat& b);
+// Same on raw 32-byte descriptors.
+int DescriptorDistance(const uint8_t* a, const uint8_t* b);
 
 }  // namespace planeloc

@@ -24,8 +24,9 @@ struct StereoMatchOptions {
 // Features of a rectified stereo pair: the left image's features with their stereo match.
 struct StereoFeatures {
   ImageFeatures left;
-  std::vector<float> u_right;  // level-0 x of the match in the right image, -1 if none
-  std::vector<float> depth;    // metres along the left camera z, -1 if none
+  std::vector<float> u_right;    // level-0 x of the match in the right image, -1 if none
+  std::vector<float> depth;      // metres along the left camera z, -1 if none
+  std::vector<int> right_index;  // matched right keypoint (descriptor match), -1 if none
   int num_right_keypoints = 0;
   int num_stereo_matches() const;
 };
