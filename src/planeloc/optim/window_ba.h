@@ -49,13 +49,19 @@ struct WindowProblem {
 };
 
 struct WindowBaOptions {
-  double lambda = 1.0;        // weight of the reprojection term in [0, 1]; 1 = visual only
+  // Weight of the reprojection term in (0, 1]; 1 = visual only (no plane residual is added).
+  // lambda = 0 is rejected by Check(): without reprojection residuals the poses are unobserved.
+  // Only lambda / (1 - lambda) matters for the minimizer (see docs/optim.md).
+  double lambda = 1.0;
   double plane_sigma = 0.05;  // metres: point-to-plane residual whitening
   double plane_huber = 0.2;   // metres: robust threshold of the plane term
-  double chi2_mono = 5.991;
-  double chi2_stereo = 7.815;
-  int iterations = 10;  // per round; two rounds with outlier removal between
-  int num_threads = 1;
+  // Metres: after the first round, a point farther than this from its plane loses its plane
+  // residual for the second round (wrong point-plane association).
+  double plane_outlier_distance = 0.5;
+  double chi2_mono = 5.991;    // 95 % for 2 DoF, whitened px^2; Huber delta = sqrt(chi2)
+  double chi2_stereo = 7.815;  // 95 % for 3 DoF
+  int iterations = 10;         // per round; two rounds with outlier removal between
+  int num_threads = 1;         // Ceres threads; results may differ in the last bits for > 1
   void Check() const;
 };
 
@@ -63,8 +69,11 @@ struct WindowBaResult {
   std::map<int, Rigid3d> cam_from_world;          // every non-fixed keyframe, by id
   std::map<int, Eigen::Vector3d> point_in_world;  // every point, by id
   std::vector<bool> observation_inlier;           // aligned with problem.observations
+  // Ceres cost (0.5 * sum of scaled robust squared norms) before the first round and after the
+  // second. The rounds differ in the active set and kernel, so compare them only as a trend.
   double initial_cost = 0, final_cost = 0;
-  bool usable = false;  // ceres::Solver::Summary::IsSolutionUsable
+  bool usable = false;          // ceres::Solver::Summary::IsSolutionUsable
+  int num_plane_residuals = 0;  // point-to-plane residuals in the last round
 };
 
 WindowBaResult SolveWindowBa(const StereoCamera& camera, const WindowProblem& problem,

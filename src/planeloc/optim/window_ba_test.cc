@@ -1,0 +1,285 @@
+#include "planeloc/optim/window_ba.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "planeloc/optim/test_scene.h"
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+// Ground truth and a perturbed BA problem of a camera driving along a road between two walls.
+struct BaScene {
+  StereoCamera camera = test::KittiLikeCamera();
+  std::vector<Rigid3d> cam_from_world_true;  // by keyframe id = index
+  std::vector<Eigen::Vector3d> point_true;   // by point id = index
+  WindowProblem problem;                     // perturbed initial values
+};
+
+struct SceneConfig {
+  int keyframes = 8;
+  double spacing = 1.5;        // metres between keyframes along z
+  int points_per_plane = 150;  // on each of the 3 planes
+  int off_plane_points = 150;
+  double pixel_noise = 1.0;
+  double pose_rot_sigma = 0.005, pose_trans_sigma = 0.1;  // initial pose perturbation
+  double point_sigma = 0.3;                               // metres, initial point perturbation
+  double scale = 1.0;  // initial trajectory/structure scaled about keyframe 0 (drift)
+  bool mono_only = false;
+  unsigned seed = 1;
+};
+
+BaScene MakeScene(const SceneConfig& c) {
+  BaScene s;
+  std::mt19937 rng(c.seed);
+  std::normal_distribution<double> noise(0.0, c.pixel_noise), point_noise(0.0, c.point_sigma);
+  for (int k = 0; k < c.keyframes; ++k) {
+    const Eigen::Quaterniond yaw(Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d::UnitY()));
+    const Eigen::Vector3d centre(0.1 * std::sin(k), 0.0, c.spacing * k);
+    s.cam_from_world_true.push_back(Rigid3d(yaw, centre).Inverse());
+  }
+  const double z_max = c.spacing * c.keyframes + 35.0;
+  for (int plane = 0; plane < 4; ++plane) {
+    const int count = plane < 3 ? c.points_per_plane : c.off_plane_points;
+    for (int i = 0; i < count; ++i) {
+      s.point_true.push_back(test::RandomScenePoint(rng, plane < 3 ? plane : -1, 4.0, z_max));
+      WindowPoint p;
+      p.id = static_cast<int>(s.point_true.size()) - 1;
+      if (plane < 3) p.plane_id = plane;
+      s.problem.points.push_back(p);
+    }
+  }
+  const std::vector<Plane> planes = test::ScenePlanes();
+  for (int i = 0; i < 3; ++i) s.problem.planes.push_back({i, planes[i]});
+
+  // Initial values: scale drift about keyframe 0's centre, then random perturbations.
+  const Eigen::Vector3d origin = s.cam_from_world_true[0].Inverse().translation;
+  for (int k = 0; k < c.keyframes; ++k) {
+    const Rigid3d world_from_cam = s.cam_from_world_true[k].Inverse();
+    Rigid3d scaled(world_from_cam.rotation,
+                   origin + c.scale * (world_from_cam.translation - origin));
+    Rigid3d initial = scaled.Inverse();
+    if (k > 0) initial = test::Perturb(initial, c.pose_rot_sigma, c.pose_trans_sigma, rng);
+    s.problem.keyframes.push_back({k, initial, k == 0});
+  }
+  for (WindowPoint& p : s.problem.points) {
+    p.point_in_world = origin + c.scale * (s.point_true[p.id] - origin) +
+                       Eigen::Vector3d(point_noise(rng), point_noise(rng), point_noise(rng));
+  }
+  for (int k = 0; k < c.keyframes; ++k) {
+    for (size_t j = 0; j < s.point_true.size(); ++j) {
+      const Eigen::Vector3d x = s.cam_from_world_true[k] * s.point_true[j];
+      if (x.z() < 2.0 || x.z() > 45.0) continue;
+      const Eigen::Vector3d uvu = *s.camera.ProjectStereo(x);
+      if (!s.camera.InImage(uvu.head<2>())) continue;
+      WindowObservation o;
+      o.keyframe_id = k;
+      o.point_id = static_cast<int>(j);
+      o.u_left = uvu.x() + noise(rng);
+      o.v = uvu.y() + noise(rng);
+      const bool stereo = !c.mono_only && x.z() < 40 * s.camera.baseline;
+      o.u_right = stereo ? uvu.z() + noise(rng) : -1.0;
+      s.problem.observations.push_back(o);
+    }
+  }
+  return s;
+}
+
+// Median error of the points (optionally only those on a plane): far monocular points have
+// metre-level depth uncertainty, which would dominate a mean.
+double MedianPointError(const BaScene& s, const std::map<int, Eigen::Vector3d>& points,
+                        bool planar_only) {
+  std::vector<double> errors;
+  for (const WindowPoint& p : s.problem.points) {
+    if (planar_only && !p.plane_id) continue;
+    errors.push_back((points.at(p.id) - s.point_true[p.id]).norm());
+  }
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  return errors[errors.size() / 2];
+}
+
+double MedianInitialPointError(const BaScene& s, bool planar_only) {
+  std::map<int, Eigen::Vector3d> points;
+  for (const WindowPoint& p : s.problem.points) points[p.id] = p.point_in_world;
+  return MedianPointError(s, points, planar_only);
+}
+
+// Mean camera-centre error of the free keyframes.
+double MeanPoseError(const BaScene& s, const std::map<int, Rigid3d>& poses) {
+  double sum = 0;
+  for (const auto& [id, pose] : poses) {
+    sum += (pose.Inverse().translation - s.cam_from_world_true[id].Inverse().translation).norm();
+  }
+  return sum / poses.size();
+}
+
+double MeanInitialPoseError(const BaScene& s) {
+  std::map<int, Rigid3d> poses;
+  for (const WindowKeyframe& kf : s.problem.keyframes) {
+    if (!kf.fixed) poses[kf.id] = kf.cam_from_world;
+  }
+  return MeanPoseError(s, poses);
+}
+
+// Distance of the last keyframe's centre from keyframe 0's, over the true one: the window scale.
+double WindowScale(const BaScene& s, const std::map<int, Rigid3d>& poses) {
+  const int last = static_cast<int>(s.cam_from_world_true.size()) - 1;
+  const Eigen::Vector3d c0 = s.cam_from_world_true[0].Inverse().translation;
+  return (poses.at(last).Inverse().translation - c0).norm() /
+         (s.cam_from_world_true[last].Inverse().translation - c0).norm();
+}
+
+TEST(SolveWindowBa, ReducesPoseAndPointError) {
+  const BaScene s = MakeScene({});
+  ASSERT_GT(s.problem.observations.size(), 1500u);
+  const WindowBaResult r = SolveWindowBa(s.camera, s.problem, {});
+  ASSERT_TRUE(r.usable);
+  EXPECT_EQ(r.num_plane_residuals, 0);                                 // lambda = 1: visual only
+  EXPECT_EQ(r.cam_from_world.size(), s.problem.keyframes.size() - 1);  // keyframe 0 fixed
+  EXPECT_EQ(r.point_in_world.size(), s.problem.points.size());
+  const double pose_before = MeanInitialPoseError(s),
+               pose_after = MeanPoseError(s, r.cam_from_world);
+  EXPECT_LT(pose_after, 0.3 * pose_before) << pose_before << " -> " << pose_after;
+  EXPECT_LT(pose_after, 0.03);
+  const double point_before = MedianInitialPointError(s, false);
+  const double point_after = MedianPointError(s, r.point_in_world, false);
+  EXPECT_LT(point_after, point_before) << point_before << " -> " << point_after;
+  EXPECT_LT(r.final_cost, r.initial_cost);
+  int inliers = 0;
+  for (bool b : r.observation_inlier) inliers += b ? 1 : 0;
+  EXPECT_GT(inliers, 0.9 * r.observation_inlier.size());
+}
+
+TEST(SolveWindowBa, FlagsGrossOutliers) {
+  BaScene s = MakeScene({.point_sigma = 0.1, .seed = 2});
+  std::map<int, int> num_observations;
+  for (const WindowObservation& o : s.problem.observations) ++num_observations[o.point_id];
+  // Corrupt one observation of every third point seen at least 3 times (a point seen once or
+  // twice can move to fit a corrupted measurement, so only redundant ones are detectable).
+  std::set<int> corrupted_points;
+  std::vector<size_t> corrupted;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> angle(0.0, 2 * M_PI);
+  for (size_t i = 0; i < s.problem.observations.size(); ++i) {
+    WindowObservation& o = s.problem.observations[i];
+    if (o.point_id % 3 != 0 || num_observations[o.point_id] < 3) continue;
+    if (!corrupted_points.insert(o.point_id).second) continue;
+    const double a = angle(rng);
+    o.u_left += 40 * std::cos(a);
+    o.v += 40 * std::sin(a);
+    if (o.u_right >= 0) o.u_right += 40 * std::cos(a);
+    corrupted.push_back(i);
+  }
+  ASSERT_GT(corrupted.size(), 100u);
+  const WindowBaResult r = SolveWindowBa(s.camera, s.problem, {});
+  ASSERT_TRUE(r.usable);
+  for (size_t i : corrupted) EXPECT_FALSE(r.observation_inlier[i]) << i;
+  EXPECT_LT(MeanPoseError(s, r.cam_from_world), 0.05);
+}
+
+TEST(SolveWindowBa, PlaneConstraintsImprovePlanarPoints) {
+  const BaScene s = MakeScene({.seed = 3});
+  const WindowBaResult visual = SolveWindowBa(s.camera, s.problem, {});
+  WindowBaOptions with_planes;
+  with_planes.lambda = 0.5;
+  const WindowBaResult planar = SolveWindowBa(s.camera, s.problem, with_planes);
+  ASSERT_TRUE(visual.usable);
+  ASSERT_TRUE(planar.usable);
+  // Every planar point that is observed (a few of the 450 never enter an image).
+  EXPECT_GT(planar.num_plane_residuals, 400);
+  EXPECT_LE(planar.num_plane_residuals, 450);
+  const double e_visual = MedianPointError(s, visual.point_in_world, true);
+  const double e_planar = MedianPointError(s, planar.point_in_world, true);
+  EXPECT_LT(e_planar, 0.7 * e_visual) << e_visual << " -> " << e_planar;
+}
+
+// Monocular-only window: the scale is a gauge freedom of the reprojection error, so a drifted
+// scale stays drifted with lambda = 1; the metric LiDAR planes pull it back.
+TEST(SolveWindowBa, PlanesRecoverScaleDriftMonocular) {
+  const BaScene s =
+      MakeScene({.pose_trans_sigma = 0.02, .scale = 1.1, .mono_only = true, .seed = 4});
+  const WindowBaResult visual = SolveWindowBa(s.camera, s.problem, {});
+  WindowBaOptions with_planes;
+  with_planes.lambda = 0.5;
+  const WindowBaResult planar = SolveWindowBa(s.camera, s.problem, with_planes);
+  ASSERT_TRUE(visual.usable);
+  ASSERT_TRUE(planar.usable);
+  const double scale_visual = WindowScale(s, visual.cam_from_world);
+  const double scale_planar = WindowScale(s, planar.cam_from_world);
+  EXPECT_GT(std::abs(scale_visual - 1.0), 0.05) << scale_visual;
+  EXPECT_LT(std::abs(scale_planar - 1.0), 0.01) << scale_planar;
+}
+
+// Stereo window with 10 % scale drift: stereo alone observes scale only weakly at these depths;
+// the planes must give a measurably better window scale and pose error.
+TEST(SolveWindowBa, PlanesReduceScaleDriftStereo) {
+  const BaScene s = MakeScene({.pose_trans_sigma = 0.02, .scale = 1.1, .seed = 5});
+  const WindowBaResult visual = SolveWindowBa(s.camera, s.problem, {});
+  WindowBaOptions with_planes;
+  with_planes.lambda = 0.5;
+  const WindowBaResult planar = SolveWindowBa(s.camera, s.problem, with_planes);
+  ASSERT_TRUE(visual.usable);
+  ASSERT_TRUE(planar.usable);
+  const double scale_err_visual = std::abs(WindowScale(s, visual.cam_from_world) - 1.0);
+  const double scale_err_planar = std::abs(WindowScale(s, planar.cam_from_world) - 1.0);
+  EXPECT_LT(scale_err_planar, 0.5 * scale_err_visual)
+      << scale_err_visual << " -> " << scale_err_planar;
+  EXPECT_LT(MeanPoseError(s, planar.cam_from_world), MeanPoseError(s, visual.cam_from_world));
+}
+
+TEST(SolveWindowBa, AllKeyframesFreeIsStillUsable) {
+  BaScene s = MakeScene({.seed = 6});
+  for (WindowKeyframe& kf : s.problem.keyframes) kf.fixed = false;
+  const WindowBaResult r = SolveWindowBa(s.camera, s.problem, {});
+  // The gauge is unobserved, but Levenberg-Marquardt's damping keeps the system solvable.
+  ASSERT_TRUE(r.usable);
+  EXPECT_EQ(r.cam_from_world.size(), s.problem.keyframes.size());
+  EXPECT_LT(r.final_cost, r.initial_cost);
+}
+
+TEST(SolveWindowBa, DeterministicBitForBit) {
+  const BaScene s = MakeScene({.seed = 7});
+  WindowBaOptions options;
+  options.lambda = 0.7;
+  const WindowBaResult a = SolveWindowBa(s.camera, s.problem, options);
+  const WindowBaResult b = SolveWindowBa(s.camera, s.problem, options);
+  for (const auto& [id, pose] : a.cam_from_world) {
+    EXPECT_EQ(pose.translation, b.cam_from_world.at(id).translation);
+    EXPECT_EQ(pose.rotation.coeffs(), b.cam_from_world.at(id).rotation.coeffs());
+  }
+  EXPECT_EQ(a.point_in_world, b.point_in_world);
+  EXPECT_EQ(a.observation_inlier, b.observation_inlier);
+}
+
+TEST(SolveWindowBa, RejectsBadInput) {
+  BaScene s = MakeScene({.keyframes = 3, .points_per_plane = 10, .off_plane_points = 10});
+  WindowBaOptions options;
+  options.lambda = 0.0;
+  EXPECT_THROW(SolveWindowBa(s.camera, s.problem, options), OptionsError);
+  options.lambda = 1.5;
+  EXPECT_THROW(options.Check(), OptionsError);
+  options = {};
+  options.plane_sigma = 0;
+  EXPECT_THROW(options.Check(), OptionsError);
+  s.problem.observations[0].point_id = 99999;
+  EXPECT_THROW(SolveWindowBa(s.camera, s.problem, {}), std::invalid_argument);
+}
+
+TEST(SolveWindowBa, EmptyProblemIsNotUsableAndKeepsInput) {
+  WindowProblem problem;
+  problem.keyframes.push_back({0, Rigid3d::Identity(), true});
+  problem.keyframes.push_back({1, Rigid3d::Identity(), false});
+  problem.points.push_back({0, Eigen::Vector3d(1, 2, 3), std::nullopt});
+  const WindowBaResult r = SolveWindowBa(test::KittiLikeCamera(), problem, {});
+  EXPECT_FALSE(r.usable);
+  EXPECT_EQ(r.point_in_world.at(0), Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(r.cam_from_world.size(), 1u);
+}
+
+}  // namespace
+}  // namespace planeloc
