@@ -1,0 +1,217 @@
+#include "planeloc/map/tensor_voting.h"
+
+#include <open3d/geometry/KDTreeFlann.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+struct Eigen3 {
+  Eigen::Vector3d e1 = Eigen::Vector3d::UnitZ();
+  double l1 = 0.0, l2 = 0.0, l3 = 0.0;
+};
+
+Eigen3 Decompose(const Eigen::Matrix3d& tensor) {
+  Eigen3 out;
+  if (!(tensor.trace() > 0.0)) return out;  // no votes: isolated point
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(tensor);
+  const Eigen::Vector3d values = solver.eigenvalues().cwiseMax(0.0);  // ascending
+  out.l1 = values(2);
+  out.l2 = values(1);
+  out.l3 = values(0);
+  out.e1 = solver.eigenvectors().col(2).normalized();
+  return out;
+}
+
+// Writes normal, normalized saliencies and class of point i.
+void Store(const Eigen3& eig, std::size_t i, TensorVotingResult& result) {
+  result.normals[i] = eig.e1;
+  if (eig.l1 <= 0.0) {
+    result.stick[i] = result.plate[i] = result.ball[i] = 0.0f;
+    result.classes[i] = SaliencyClass::kJunction;
+    return;
+  }
+  result.stick[i] = static_cast<float>((eig.l1 - eig.l2) / eig.l1);
+  result.plate[i] = static_cast<float>((eig.l2 - eig.l3) / eig.l1);
+  result.ball[i] = static_cast<float>(eig.l3 / eig.l1);
+  result.classes[i] = ClassifySaliency(eig.l1, eig.l2, eig.l3);
+}
+
+// Pass 1: unoriented voters cast (l^2 I - v v^T) w(l) / sigma^2 (see the header).
+Eigen::Matrix3d BallTensor(const std::vector<Eigen::Vector3d>& points, const Neighborhoods& hoods,
+                           std::size_t votee, double inv_sigma2) {
+  Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+  const Eigen::Vector3d& x = points[votee];
+  for (std::int64_t k = hoods.begin(votee); k < hoods.end(votee); ++k) {
+    const Eigen::Vector3d v = x - points[hoods.indices[k]];
+    const double l2 = v.squaredNorm();
+    const double w = std::exp(-l2 * inv_sigma2) * inv_sigma2;
+    tensor.noalias() -= w * (v * v.transpose());
+    tensor.diagonal().array() += w * l2;
+  }
+  return tensor;
+}
+
+// Pass 2: voter i casts its normal n_i along the osculating arc. With s = sin(theta) = n.v^, the
+// normal rotated by 2 theta simplifies to the reflection n - 2 s v^ (unit, no trigonometry).
+Eigen::Matrix3d StickTensor(const std::vector<Eigen::Vector3d>& points, const Neighborhoods& hoods,
+                            const std::vector<Eigen::Vector3d>& normals,
+                            const std::vector<float>& stick, const std::vector<float>& ball,
+                            std::size_t votee, const TensorVotingOptions& options) {
+  const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
+  const double curvature_scale = 4.0 * options.curvature_weight * options.sigma * options.sigma;
+  const double max_sin = std::sin(options.max_stick_angle_deg * kDegToRad);
+  const Eigen::Vector3d& x = points[votee];
+  Eigen::Matrix3d tensor = stick[votee] * (normals[votee] * normals[votee].transpose());
+  for (std::int64_t k = hoods.begin(votee); k < hoods.end(votee); ++k) {
+    const std::int32_t voter = hoods.indices[k];
+    const Eigen::Vector3d& n = normals[voter];
+    const Eigen::Vector3d v = x - points[voter];
+    const double l2 = v.squaredNorm();
+    if (l2 < 1e-24) {
+      tensor.noalias() += stick[voter] * (n * n.transpose());
+      continue;
+    }
+    const double decay = std::exp(-l2 * inv_sigma2);
+    const Eigen::Vector3d v_unit = v / std::sqrt(l2);
+    // The voter's ball part votes as a ball (Medioni): without it, clutter whose pass-1 normals
+    // are weak but spatially correlated would be smoothed into false surfaces.
+    const double ball_weight = ball[voter] * decay;
+    tensor.noalias() -= ball_weight * (v_unit * v_unit.transpose());
+    tensor.diagonal().array() += ball_weight;
+    const double s = n.dot(v_unit);
+    if (stick[voter] <= 0.0f || std::abs(s) > max_sin) continue;
+    // kappa^2 = 4 s^2 / l^2, so c (sigma kappa)^2 = curvature_scale * s^2 / l^2.
+    const double w = stick[voter] * decay * std::exp(-curvature_scale * s * s / l2);
+    const Eigen::Vector3d voted = n - 2.0 * s * v_unit;
+    tensor.noalias() += w * (voted * voted.transpose());
+  }
+  return tensor;
+}
+
+template <typename Fn>
+void ParallelFor(std::size_t n, Fn&& fn) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) fn(i);
+                    });
+}
+
+}  // namespace
+
+void TensorVotingOptions::Check() const {
+  if (!(sigma > 0.0)) throw OptionsError("TensorVotingOptions.sigma must be > 0 (metres)");
+  if (!(radius_factor >= 0.5 && radius_factor <= 5.0)) {
+    throw OptionsError("TensorVotingOptions.radius_factor must be in [0.5, 5]");
+  }
+  if (!(curvature_weight >= 0.0)) {
+    throw OptionsError("TensorVotingOptions.curvature_weight must be >= 0");
+  }
+  if (!(max_stick_angle_deg > 0.0 && max_stick_angle_deg <= 90.0)) {
+    throw OptionsError("TensorVotingOptions.max_stick_angle_deg must be in (0, 90]");
+  }
+  if (stick_passes < 0 || stick_passes > 10) {
+    throw OptionsError("TensorVotingOptions.stick_passes must be in [0, 10]");
+  }
+}
+
+std::string SaliencyClassName(SaliencyClass saliency_class) {
+  switch (saliency_class) {
+    case SaliencyClass::kSurface:
+      return "surface";
+    case SaliencyClass::kCurve:
+      return "curve";
+    case SaliencyClass::kJunction:
+      return "junction";
+  }
+  return "unknown";
+}
+
+SaliencyClass ClassifySaliency(double l1, double l2, double l3) {
+  const double stick = l1 - l2, plate = l2 - l3, ball = l3;
+  if (stick >= plate && stick >= ball && stick > 0.0) return SaliencyClass::kSurface;
+  if (plate >= stick && plate >= ball && plate > 0.0) return SaliencyClass::kCurve;
+  return SaliencyClass::kJunction;
+}
+
+Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius) {
+  Neighborhoods hoods;
+  hoods.radius = radius;
+  hoods.offsets.assign(points.size() + 1, 0);
+  if (points.empty()) return hoods;
+  Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    data.col(static_cast<Eigen::Index>(i)) = points[i];
+  const open3d::geometry::KDTreeFlann tree(data);
+  std::vector<std::vector<std::int32_t>> lists(points.size());
+  ParallelFor(points.size(), [&](std::size_t i) {
+    std::vector<int> found;
+    std::vector<double> distances2;
+    tree.SearchRadius(points[i], radius, found, distances2);
+    auto& list = lists[i];
+    list.reserve(found.size());
+    for (const int j : found) {
+      if (static_cast<std::size_t>(j) != i) list.push_back(j);
+    }
+  });
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    hoods.offsets[i + 1] = hoods.offsets[i] + static_cast<std::int64_t>(lists[i].size());
+  }
+  hoods.indices.resize(static_cast<std::size_t>(hoods.offsets.back()));
+  ParallelFor(points.size(), [&](std::size_t i) {
+    std::copy(lists[i].begin(), lists[i].end(), hoods.indices.begin() + hoods.offsets[i]);
+    std::vector<std::int32_t>().swap(lists[i]);
+  });
+  return hoods;
+}
+
+TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
+                                   const TensorVotingOptions& options) {
+  options.Check();
+  return RunTensorVoting(points, options, FindNeighborhoods(points, options.radius()));
+}
+
+TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
+                                   const TensorVotingOptions& options,
+                                   Neighborhoods neighborhoods) {
+  options.Check();
+  if (neighborhoods.size() != points.size()) {
+    throw std::invalid_argument("RunTensorVoting: neighbourhoods do not match the points");
+  }
+  const std::size_t n = points.size();
+  TensorVotingResult result;
+  result.normals.assign(n, Eigen::Vector3d::UnitZ());
+  result.stick.assign(n, 0.0f);
+  result.plate.assign(n, 0.0f);
+  result.ball.assign(n, 0.0f);
+  result.classes.assign(n, SaliencyClass::kJunction);
+  const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
+  ParallelFor(n, [&](std::size_t i) {
+    Store(Decompose(BallTensor(points, neighborhoods, i, inv_sigma2)), i, result);
+  });
+  for (int pass = 0; pass < options.stick_passes; ++pass) {
+    // Votes read the previous pass only, so the pass is order-independent.
+    const std::vector<Eigen::Vector3d> normals = result.normals;
+    const std::vector<float> stick = result.stick;
+    const std::vector<float> ball = result.ball;
+    ParallelFor(n, [&](std::size_t i) {
+      Store(Decompose(StickTensor(points, neighborhoods, normals, stick, ball, i, options)), i,
+            result);
+    });
+  }
+  result.neighborhoods = std::move(neighborhoods);
+  return result;
+}
+
+}  // namespace planeloc

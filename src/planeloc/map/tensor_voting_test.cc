@@ -1,0 +1,135 @@
+#include "planeloc/map/tensor_voting.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "planeloc/map/synthetic_scene_for_test.h"
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+using testing::SceneBuilder;
+
+double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 /
+         std::numbers::pi;
+}
+
+TEST(TensorVotingTest, ClassRuleOfThePaper) {
+  EXPECT_EQ(ClassifySaliency(1.0, 0.1, 0.05), SaliencyClass::kSurface);
+  EXPECT_EQ(ClassifySaliency(1.0, 0.8, 0.1), SaliencyClass::kCurve);
+  EXPECT_EQ(ClassifySaliency(1.0, 0.9, 0.85), SaliencyClass::kJunction);
+  EXPECT_EQ(ClassifySaliency(0.0, 0.0, 0.0), SaliencyClass::kJunction);
+}
+
+TEST(TensorVotingTest, OptionsCheckNamesTheField) {
+  TensorVotingOptions options;
+  options.sigma = 0.0;
+  try {
+    options.Check();
+    FAIL();
+  } catch (const OptionsError& e) {
+    EXPECT_NE(std::string(e.what()).find("sigma"), std::string::npos);
+  }
+  options = TensorVotingOptions();
+  options.stick_passes = -1;
+  EXPECT_THROW(options.Check(), OptionsError);
+}
+
+TEST(TensorVotingTest, NeighborhoodsAreSymmetricAndExcludeSelf) {
+  SceneBuilder builder(0.2, 0.0, 3);
+  builder.Rectangle({0, 0, 0}, Eigen::Vector3d::UnitX(), 3.0, Eigen::Vector3d::UnitY(), 3.0, true);
+  const auto& points = builder.scene().points;
+  const Neighborhoods hoods = FindNeighborhoods(points, 0.5);
+  ASSERT_EQ(hoods.size(), points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (auto k = hoods.begin(i); k < hoods.end(i); ++k) {
+      const auto j = static_cast<std::size_t>(hoods.indices[k]);
+      EXPECT_NE(j, i);
+      EXPECT_LE((points[i] - points[j]).norm(), 0.5 + 1e-9);
+    }
+  }
+  // A brute-force count for one point.
+  int expected = 0;
+  for (std::size_t j = 1; j < points.size(); ++j) expected += (points[j] - points[0]).norm() <= 0.5;
+  EXPECT_EQ(hoods.end(0) - hoods.begin(0), expected);
+}
+
+TEST(TensorVotingTest, NoisyPlaneGivesItsNormalAsStickE1) {
+  SceneBuilder builder(0.1, 0.02, 5);
+  const Eigen::Vector3d u = Eigen::Vector3d(1, 1, 0).normalized();
+  const Eigen::Vector3d v = Eigen::Vector3d(-1, 1, 2).normalized();
+  builder.Rectangle({0, 0, 0}, u, 4.0, v, 4.0, true);
+  const auto& points = builder.scene().points;
+  const Eigen::Vector3d normal = u.cross(v);
+  const TensorVotingResult result = RunTensorVoting(points, TensorVotingOptions());
+  ASSERT_EQ(result.size(), points.size());
+  double sum = 0.0;
+  int surface = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    sum += AngleDeg(result.normals[i], normal);
+    surface += result.classes[i] == SaliencyClass::kSurface;
+    EXPECT_NEAR(result.stick[i] + result.plate[i] + result.ball[i], 1.0, 1e-4);
+  }
+  EXPECT_LT(sum / points.size(), 1.5);
+  EXPECT_GT(surface, 0.95 * points.size());
+}
+
+TEST(TensorVotingTest, StickPassKeepsNormalsSharpAtACrease) {
+  // Floor z = 0 meeting a wall x = 0: points of the floor near the crease keep the floor normal,
+  // where the ball pass alone (= weighted PCA) tilts them towards the wall.
+  SceneBuilder builder(0.1, 0.01, 7);
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
+                        z = Eigen::Vector3d::UnitZ();
+  builder.Rectangle({0, 0, 0}, x, 3.0, y, 4.0, true);
+  builder.Rectangle({0, 0, 0}, y, 4.0, z, 3.0, true);
+  const auto& scene = builder.scene();
+  TensorVotingOptions ball_only;
+  ball_only.stick_passes = 0;
+  const TensorVotingResult ball = RunTensorVoting(scene.points, ball_only);
+  const TensorVotingResult voted = RunTensorVoting(scene.points, TensorVotingOptions());
+  double ball_error = 0.0, voted_error = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < scene.points.size(); ++i) {
+    const Eigen::Vector3d& p = scene.points[i];
+    const double crease_distance = scene.gt_label[i] == 0 ? p.x() : p.z();
+    if (crease_distance < 0.15 || crease_distance > 0.5 || p.y() < 0.8 || p.y() > 3.2) continue;
+    const Eigen::Vector3d& normal = scene.gt_planes[scene.gt_label[i]].normal;
+    ball_error += AngleDeg(ball.normals[i], normal);
+    voted_error += AngleDeg(voted.normals[i], normal);
+    ++count;
+  }
+  ASSERT_GT(count, 100);
+  EXPECT_LT(voted_error / count, 10.0);
+  EXPECT_LT(voted_error, 0.5 * ball_error);
+}
+
+TEST(TensorVotingTest, TreeCrownIsNotSurface) {
+  SceneBuilder builder(0.1, 0.01, 9);
+  builder.Blob({0, 0, 0}, 1.5, 5000);
+  const TensorVotingResult result = RunTensorVoting(builder.scene().points, TensorVotingOptions());
+  int surface = 0;
+  for (const auto c : result.classes) surface += c == SaliencyClass::kSurface;
+  EXPECT_LT(surface, 0.1 * result.size());
+}
+
+TEST(TensorVotingTest, IsolatedPointIsJunctionAndRunsAreIdentical) {
+  const auto scene = SceneBuilder::StreetCorner(0.25, 0.02, 11);
+  auto points = scene.points;
+  points.push_back({100, 100, 100});
+  const TensorVotingResult a = RunTensorVoting(points, TensorVotingOptions());
+  const TensorVotingResult b = RunTensorVoting(points, TensorVotingOptions());
+  EXPECT_EQ(a.classes.back(), SaliencyClass::kJunction);
+  EXPECT_EQ(a.stick.back(), 0.0f);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a.normals[i], b.normals[i]) << i;
+    ASSERT_EQ(a.stick[i], b.stick[i]) << i;
+  }
+}
+
+}  // namespace
+}  // namespace planeloc
