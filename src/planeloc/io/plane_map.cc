@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <set>
 
 #include "planeloc/util/error.h"
@@ -61,6 +62,13 @@ class PlaneReader {
     const double norm = normal.norm();
     if (std::abs(norm - 1.0) > kNormalTolerance) {
       Fail(fmt::format("|normal| = {:.6g}, expected 1 (tolerance {})", norm, kNormalTolerance));
+    }
+    if (std::abs(norm - 1.0) <= 4 * std::numeric_limits<double>::epsilon()) {
+      // Already unit: keep the bits, so that a written map reads back exactly.
+      Plane plane;
+      plane.normal = normal;
+      plane.d = d;
+      return plane;
     }
     return Plane(normal, d);
   }
@@ -129,6 +137,9 @@ PlaneMap ReadPlaneMap(const std::filesystem::path& path) {
   } catch (const json::parse_error& error) {
     throw InputError(path.string(), LineOfByte(text, error.byte > 0 ? error.byte - 1 : 0),
                      fmt::format("invalid JSON: {}", error.what()), "fix the JSON syntax");
+  } catch (const json::exception& error) {  // e.g. a number overflowing a double
+    throw InputError(path.string(), fmt::format("invalid JSON: {}", error.what()),
+                     "fix the JSON; numbers must be finite doubles");
   }
   CheckInput(document.is_object() && document.contains("planes") && document["planes"].is_array(),
              path.string(), 0, "no `planes` array at the top level", kSchemaFix);
