@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
 
 #include "planeloc/io/kitti_calib.h"
 #include "planeloc/io/oxts.h"
+#include "planeloc/io/trajectory.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
@@ -163,33 +163,6 @@ std::vector<double> ReadOdometryTimes(const fs::path& path, std::size_t expected
   return seconds;
 }
 
-// KITTI pose file (12 numbers a line, world_from_cam0). Kept local so that the sequence reader
-// depends on nothing but the calibration helpers.
-std::vector<Rigid3d> ReadOdometryPoses(const fs::path& path) {
-  std::ifstream stream(path);
-  CheckInput(stream.good(), path.string(), 0, "cannot open pose file", "check permissions");
-  std::vector<Rigid3d> poses;
-  std::string line;
-  int line_number = 0;
-  while (std::getline(stream, line)) {
-    ++line_number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    std::istringstream tokens(line);
-    std::vector<double> values;
-    double value = 0;
-    while (tokens >> value) values.push_back(value);
-    const bool all_finite =
-        std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
-    CheckInput(tokens.eof() && values.size() == 12 && all_finite, path.string(), line_number,
-               fmt::format("pose line has {} valid numbers, expected 12 finite", values.size()),
-               "each line is the row-major top 3x4 of world_from_cam0");
-    Matrix3x4d m;
-    for (int i = 0; i < 12; ++i) m(i / 4, i % 4) = values[i];
-    poses.push_back(Rigid3d::FromMatrix3x4(m));
-  }
-  return poses;
-}
-
 // Re-expresses cam0 poses as poses of a camera rigidly attached by cam_from_cam0, rebased so that
 // the first pose is the identity.
 std::vector<Rigid3d> RebaseAndConjugate(const std::vector<Rigid3d>& world_from_cam0,
@@ -319,7 +292,7 @@ void KittiSequence::OpenOdometry(CameraChoice cameras) {
   const fs::path poses_path =
       folder_.parent_path().parent_path() / "poses" / (folder_.filename().string() + ".txt");
   if (IsFile(poses_path)) {
-    const std::vector<Rigid3d> world_from_cam0 = ReadOdometryPoses(poses_path);
+    const std::vector<Rigid3d> world_from_cam0 = ReadKittiTrajectory(poses_path).world_from_cam;
     CheckInput(world_from_cam0.size() == size(), poses_path.string(), 0,
                fmt::format("{} poses for {} frames", world_from_cam0.size(), size()),
                "the ground truth must have one pose per frame of the sequence");

@@ -389,6 +389,12 @@ TEST(KittiSequenceBadInput, MissingOrForeignFolder) {
   ExpectInputError([&] { KittiSequence::Open(dir.path()); }, dir.path().filename().string());
 }
 
+TEST(KittiSequenceBadInput, RealDriveWithoutRightCamera) {
+  PLANELOC_SHARED_DATA_OR_SKIP(folder, "kitti-raw-2011_09_26_drive_0052-lidar-camera");
+  ExpectInputError([&] { KittiSequence::Open(folder); }, "image_01/data");
+  ExpectInputError([&] { KittiSequence::Open(folder, CameraChoice::kColor); }, "image_03/data");
+}
+
 TEST(KittiSequenceBadInput, MissingCalibration) {
   TempDir dir;
   const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});
