@@ -1,0 +1,265 @@
+// Four-part tests of every residual: zero at the truth, one hand-computed value, analytic (or
+// automatic) Jacobians against numeric differentiation at seeded random poses, and a tiny solve
+// that recovers a perturbed pose or point.
+#include "planeloc/optim/cost_functions.h"
+
+#include <ceres/gradient_checker.h>
+#include <ceres/manifold.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <random>
+
+#include "planeloc/optim/test_scene.h"
+
+namespace planeloc {
+namespace {
+
+// fx = fy = 500, cx = 320, cy = 240, baseline 0.5 m (bf = 250).
+PinholeStereoIntrinsics SimpleIntrinsics() { return {500.0, 500.0, 320.0, 240.0, 250.0}; }
+
+struct PoseParams {
+  double q[4];
+  double t[3];
+  explicit PoseParams(const Rigid3d& cam_from_world) {
+    const Eigen::Quaterniond r = cam_from_world.rotation;
+    q[0] = r.x(), q[1] = r.y(), q[2] = r.z(), q[3] = r.w();
+    for (int i = 0; i < 3; ++i) t[i] = cam_from_world.translation[i];
+  }
+  Rigid3d ToRigid() const {
+    return Rigid3d(Eigen::Quaterniond(Eigen::Map<const Eigen::Quaterniond>(q)),
+                   Eigen::Vector3d(Eigen::Map<const Eigen::Vector3d>(t)));
+  }
+};
+
+Eigen::VectorXd EvaluateResidual(const ceres::CostFunction& cost,
+                                 const std::vector<const double*>& params) {
+  Eigen::VectorXd r(cost.num_residuals());
+  EXPECT_TRUE(cost.Evaluate(params.data(), r.data(), nullptr));
+  return r;
+}
+
+Rigid3d RandomPose(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+  return Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(1.5 * u(rng), axis)),
+                 Eigen::Vector3d(u(rng), u(rng), u(rng)) * 5.0);
+}
+
+// A world point 3-30 m in front of the camera.
+Eigen::Vector3d RandomPointInFront(const Rigid3d& cam_from_world, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), depth(3.0, 30.0);
+  const double z = depth(rng);
+  return cam_from_world.Inverse() * Eigen::Vector3d(0.5 * z * u(rng), 0.3 * z * u(rng), z);
+}
+
+Eigen::Vector3d StereoPixel(const PinholeStereoIntrinsics& k, const Eigen::Vector3d& p) {
+  const double u = k.fx * p.x() / p.z() + k.cx;
+  return {u, k.fy * p.y() / p.z() + k.cy, u - k.bf / p.z()};
+}
+
+// --- zero at the truth ---
+
+TEST(CostFunctions, ZeroAtTruth) {
+  std::mt19937 rng(1);
+  const PinholeStereoIntrinsics k = SimpleIntrinsics();
+  const Rigid3d pose = RandomPose(rng);
+  const Eigen::Vector3d x = RandomPointInFront(pose, rng);
+  const Eigen::Vector3d pixel = StereoPixel(k, pose * x);
+  const PoseParams params(pose);
+  const std::vector<const double*> full = {params.q, params.t, x.data()};
+  const std::vector<const double*> pose_only = {params.q, params.t};
+
+  std::unique_ptr<ceres::CostFunction> stereo(StereoReprojectionError::Create(k, pixel, 2.0));
+  std::unique_ptr<ceres::CostFunction> mono(MonoReprojectionError::Create(k, pixel.head<2>(), 2.0));
+  const StereoPoseOnlyError stereo_pose(k, pixel, x, 2.0);
+  const MonoPoseOnlyError mono_pose(k, pixel.head<2>(), x, 2.0);
+  EXPECT_LT(EvaluateResidual(*stereo, full).norm(), 1e-9);
+  EXPECT_LT(EvaluateResidual(*mono, full).norm(), 1e-9);
+  EXPECT_LT(EvaluateResidual(stereo_pose, pose_only).norm(), 1e-9);
+  EXPECT_LT(EvaluateResidual(mono_pose, pose_only).norm(), 1e-9);
+
+  const Plane plane = Plane::FromPointAndNormal(x, Eigen::Vector3d(1, 2, 3));
+  std::unique_ptr<ceres::CostFunction> to_plane(PointToPlaneError::Create(plane, 0.05));
+  EXPECT_LT(EvaluateResidual(*to_plane, {x.data()}).norm(), 1e-9);
+}
+
+// --- one hand-computed value ---
+
+TEST(CostFunctions, HandComputedValues) {
+  // Camera at identity rotation, t = (0.5, 0, 0): the point (1, 2, 10) is (1.5, 2, 10) in the
+  // camera: u_L = 500 * 0.15 + 320 = 395, v = 500 * 0.2 + 240 = 340, u_R = 395 - 250 / 10 = 370.
+  const PinholeStereoIntrinsics k = SimpleIntrinsics();
+  const PoseParams params(Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 0, 0)));
+  const Eigen::Vector3d x(1, 2, 10);
+  const Eigen::Vector3d observed(397, 337, 371);  // off by (+2, -3, +1) px
+  const double information = 4.0;                 // sigma = 0.5 px, sqrt(info) = 2
+  std::unique_ptr<ceres::CostFunction> stereo(
+      StereoReprojectionError::Create(k, observed, information));
+  std::unique_ptr<ceres::CostFunction> mono(
+      MonoReprojectionError::Create(k, observed.head<2>(), information));
+  const StereoPoseOnlyError stereo_pose(k, observed, x, information);
+  const MonoPoseOnlyError mono_pose(k, observed.head<2>(), x, information);
+  const Eigen::Vector3d expected(4, -6, 2);
+  EXPECT_LT((EvaluateResidual(*stereo, {params.q, params.t, x.data()}) - expected).norm(), 1e-9);
+  EXPECT_LT((EvaluateResidual(*mono, {params.q, params.t, x.data()}) - expected.head<2>()).norm(),
+            1e-9);
+  EXPECT_LT((EvaluateResidual(stereo_pose, {params.q, params.t}) - expected).norm(), 1e-9);
+  EXPECT_LT((EvaluateResidual(mono_pose, {params.q, params.t}) - expected.head<2>()).norm(), 1e-9);
+
+  // Plane 2 z - 4 = 0 (normalized to z = 2), point at z = 2.5, sigma 0.1 m: r = 0.5 / 0.1 = 5.
+  std::unique_ptr<ceres::CostFunction> to_plane(
+      PointToPlaneError::Create(Plane(Eigen::Vector3d(0, 0, 2), -4), 0.1));
+  const Eigen::Vector3d on_side(3, 4, 2.5);
+  EXPECT_NEAR(EvaluateResidual(*to_plane, {on_side.data()})[0], 5.0, 1e-12);
+}
+
+TEST(CostFunctions, PointBehindCameraFails) {
+  const PinholeStereoIntrinsics k = SimpleIntrinsics();
+  const PoseParams params(Rigid3d::Identity());
+  const Eigen::Vector3d x(1, 2, -10);
+  const StereoPoseOnlyError cost(k, Eigen::Vector3d(0, 0, 0), x, 1.0);
+  const double* p[2] = {params.q, params.t};
+  double r[3];
+  EXPECT_FALSE(cost.Evaluate(p, r, nullptr));
+  std::unique_ptr<ceres::CostFunction> stereo(
+      StereoReprojectionError::Create(k, Eigen::Vector3d(0, 0, 0), 1.0));
+  const double* full[3] = {params.q, params.t, x.data()};
+  EXPECT_FALSE(stereo->Evaluate(full, r, nullptr));
+}
+
+// --- Jacobians against numeric differentiation ---
+
+void ExpectGradientsMatch(const ceres::CostFunction& cost,
+                          const std::vector<const ceres::Manifold*>& manifolds,
+                          const std::vector<const double*>& params) {
+  ceres::NumericDiffOptions numeric_options;
+  // Ridders starts at 1 % of each parameter; keep the probes small so points stay in front.
+  numeric_options.ridders_relative_initial_step_size = 1e-4;
+  const ceres::GradientChecker checker(&cost, &manifolds, numeric_options);
+  ceres::GradientChecker::ProbeResults results;
+  EXPECT_TRUE(checker.Probe(params.data(), 1e-6, &results)) << results.error_log;
+}
+
+TEST(CostFunctions, JacobiansMatchNumericDifferentiation) {
+  std::mt19937 rng(2);
+  const PinholeStereoIntrinsics k = SimpleIntrinsics();
+  const ceres::EigenQuaternionManifold quaternion;
+  std::normal_distribution<double> noise(0.0, 3.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Rigid3d pose = RandomPose(rng);
+    const Eigen::Vector3d x = RandomPointInFront(pose, rng);
+    const Eigen::Vector3d observed =
+        StereoPixel(k, pose * x) + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    const PoseParams params(pose);
+    std::unique_ptr<ceres::CostFunction> stereo(StereoReprojectionError::Create(k, observed, 0.7));
+    std::unique_ptr<ceres::CostFunction> mono(
+        MonoReprojectionError::Create(k, observed.head<2>(), 0.7));
+    ExpectGradientsMatch(*stereo, {&quaternion, nullptr, nullptr}, {params.q, params.t, x.data()});
+    ExpectGradientsMatch(*mono, {&quaternion, nullptr, nullptr}, {params.q, params.t, x.data()});
+    const StereoPoseOnlyError stereo_pose(k, observed, x, 0.7);
+    const MonoPoseOnlyError mono_pose(k, observed.head<2>(), x, 0.7);
+    ExpectGradientsMatch(stereo_pose, {&quaternion, nullptr}, {params.q, params.t});
+    ExpectGradientsMatch(mono_pose, {&quaternion, nullptr}, {params.q, params.t});
+
+    // The analytic pose-only Jacobian equals the automatic one in ambient coordinates.
+    double r_auto[3], r_analytic[3], jq_auto[12], jt_auto[9], jx_auto[9], jq[12], jt[9];
+    double* j_auto[3] = {jq_auto, jt_auto, jx_auto};
+    double* j_analytic[2] = {jq, jt};
+    const double* full[3] = {params.q, params.t, x.data()};
+    const double* pose_only[2] = {params.q, params.t};
+    ASSERT_TRUE(stereo->Evaluate(full, r_auto, j_auto));
+    ASSERT_TRUE(stereo_pose.Evaluate(pose_only, r_analytic, j_analytic));
+    for (int i = 0; i < 12; ++i) EXPECT_NEAR(jq[i], jq_auto[i], 1e-9 * (1 + std::abs(jq[i])));
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(jt[i], jt_auto[i], 1e-9 * (1 + std::abs(jt[i])));
+
+    const Plane plane(Eigen::Vector3d(noise(rng), noise(rng), noise(rng)), noise(rng));
+    std::unique_ptr<ceres::CostFunction> to_plane(PointToPlaneError::Create(plane, 0.05));
+    ExpectGradientsMatch(*to_plane, {nullptr}, {x.data()});
+  }
+}
+
+// --- tiny solves ---
+
+// Recovers a perturbed pose from 30 fixed points with the given residual factory.
+template <typename MakeCost>
+double RecoveredPoseErrorM(MakeCost make_cost, bool points_as_blocks) {
+  std::mt19937 rng(3);
+  const PinholeStereoIntrinsics k = SimpleIntrinsics();
+  const Rigid3d truth = RandomPose(rng);
+  PoseParams params(test::Perturb(truth, 0.05, 0.3, rng));
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 30; ++i) points.push_back(RandomPointInFront(truth, rng));
+  ceres::Problem problem;
+  problem.AddParameterBlock(params.q, 4, new ceres::EigenQuaternionManifold);
+  for (Eigen::Vector3d& x : points) {
+    ceres::CostFunction* cost = make_cost(k, StereoPixel(k, truth * x), x);
+    if (points_as_blocks) {
+      problem.AddResidualBlock(cost, nullptr, params.q, params.t, x.data());
+      problem.SetParameterBlockConstant(x.data());
+    } else {
+      problem.AddResidualBlock(cost, nullptr, params.q, params.t);
+    }
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 50;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  EXPECT_TRUE(summary.IsSolutionUsable());
+  const Rigid3d estimate = params.ToRigid();
+  EXPECT_LT(RotationAngle(estimate.rotation, truth.rotation), 1e-6);
+  return (estimate.translation - truth.translation).norm();
+}
+
+TEST(CostFunctions, TinySolvesRecoverPose) {
+  using K = PinholeStereoIntrinsics;
+  EXPECT_LT(RecoveredPoseErrorM(
+                [](const K& k, const Eigen::Vector3d& px, const Eigen::Vector3d&) {
+                  return StereoReprojectionError::Create(k, px, 1.0);
+                },
+                true),
+            1e-6);
+  EXPECT_LT(RecoveredPoseErrorM(
+                [](const K& k, const Eigen::Vector3d& px, const Eigen::Vector3d&) {
+                  return MonoReprojectionError::Create(k, px.head<2>(), 1.0);
+                },
+                true),
+            1e-6);
+  EXPECT_LT(RecoveredPoseErrorM(
+                [](const K& k, const Eigen::Vector3d& px, const Eigen::Vector3d& x) {
+                  return new StereoPoseOnlyError(k, px, x, 1.0);
+                },
+                false),
+            1e-6);
+  EXPECT_LT(RecoveredPoseErrorM(
+                [](const K& k, const Eigen::Vector3d& px, const Eigen::Vector3d& x) {
+                  return new MonoPoseOnlyError(k, px.head<2>(), x, 1.0);
+                },
+                false),
+            1e-6);
+}
+
+TEST(CostFunctions, TinySolveRecoversPointFromPlanes) {
+  // Three non-parallel planes meet in one point; point-to-plane residuals alone recover it.
+  const Eigen::Vector3d corner(1.0, -2.0, 7.0);
+  const std::vector<Plane> planes = {
+      Plane::FromPointAndNormal(corner, Eigen::Vector3d(1, 0, 0.2)),
+      Plane::FromPointAndNormal(corner, Eigen::Vector3d(0, 1, 0)),
+      Plane::FromPointAndNormal(corner, Eigen::Vector3d(0.3, 0.1, 1))};
+  Eigen::Vector3d x = corner + Eigen::Vector3d(0.4, -0.3, 0.5);
+  ceres::Problem problem;
+  for (const Plane& plane : planes) {
+    problem.AddResidualBlock(PointToPlaneError::Create(plane, 0.05), nullptr, x.data());
+  }
+  ceres::Solver::Options options;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  EXPECT_TRUE(summary.IsSolutionUsable());
+  EXPECT_LT((x - corner).norm(), 1e-7);
+}
+
+}  // namespace
+}  // namespace planeloc
