@@ -31,7 +31,11 @@ bool IsFile(const fs::path& path) {
 // Files of `directory` ending in `extension`, sorted by name (KITTI names are zero-padded).
 std::vector<fs::path> ListFiles(const fs::path& directory, const std::string& extension) {
   std::vector<fs::path> files;
-  for (const fs::directory_entry& entry : fs::directory_iterator(directory)) {
+  std::error_code error;
+  fs::directory_iterator iterator(directory, error);
+  CheckInput(!error, directory.string(), 0, "cannot list the folder: " + error.message(),
+             "check that the folder exists and is readable");
+  for (const fs::directory_entry& entry : iterator) {
     if (entry.is_regular_file() && entry.path().extension() == extension) {
       files.push_back(entry.path());
     }
