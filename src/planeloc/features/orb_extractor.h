@@ -26,7 +26,7 @@ struct OrbOptions {
 struct ImageFeatures {
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;           // N x 32, CV_8U
-  std::vector<cv::Mat> pyramid;  // the grey image pyramid, level 0 = the input image
+  std::vector<cv::Mat> pyramid;  // the grey image pyramid, level 0 = a copy of the input image
 };
 
 class OrbExtractor {

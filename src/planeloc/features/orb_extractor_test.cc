@@ -69,8 +69,9 @@ TEST(OrbExtractor, FillsTheBudgetOverAllLevels) {
   EXPECT_EQ(features.descriptors.cols, 32);
   EXPECT_EQ(features.descriptors.type(), CV_8U);
   ASSERT_EQ(features.pyramid.size(), 8u);
-  EXPECT_EQ(features.pyramid[0].data, image.data);
-  EXPECT_EQ(features.pyramid[1].cols, 1022);  // round(1226 / 1.2)
+  EXPECT_EQ(cv::norm(features.pyramid[0], image, cv::NORM_INF), 0.0);
+  EXPECT_NE(features.pyramid[0].data, image.data);  // a copy, not a view of the caller's buffer
+  EXPECT_EQ(features.pyramid[1].cols, 1022);        // round(1226 / 1.2)
 
   std::vector<int> per_level(8, 0);
   for (const cv::KeyPoint& kp : features.keypoints) {

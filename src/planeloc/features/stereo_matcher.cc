@@ -3,7 +3,9 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 #include <utility>
@@ -33,18 +35,33 @@ std::vector<std::vector<int>> RowIndex(const std::vector<cv::KeyPoint>& right, i
   return rows;
 }
 
-// Sum of absolute differences between two (2w+1)^2 patches, each taken relative to its centre
-// pixel (robust to a brightness offset between the cameras, as ORB-SLAM2).
-int CenteredSad(const cv::Mat& left, int left_x, const cv::Mat& right, int right_x, int y, int w) {
-  const int left_centre = left.at<uchar>(y, left_x);
-  const int right_centre = right.at<uchar>(y, right_x);
+// Left patch of the SAD search, relative to its centre pixel (robust to a brightness offset
+// between the cameras, as ORB-SLAM2), precomputed once per keypoint.
+struct CenteredPatch {
+  std::array<int16_t, 31 * 31> values{};
+  int half_size = 0;
+};
+
+void FillCenteredPatch(const cv::Mat& image, int x, int y, int w, CenteredPatch& patch) {
+  patch.half_size = w;
+  const int centre = image.at<uchar>(y, x);
+  int k = 0;
+  for (int dy = -w; dy <= w; ++dy) {
+    const uchar* row = image.ptr<uchar>(y + dy) + x;
+    for (int dx = -w; dx <= w; ++dx) patch.values[k++] = static_cast<int16_t>(row[dx] - centre);
+  }
+}
+
+// Sum of absolute differences between the centred left patch and the right patch centred at
+// (x, y), itself taken relative to its centre pixel.
+int CenteredSad(const CenteredPatch& left, const cv::Mat& right, int x, int y) {
+  const int w = left.half_size, side = 2 * w + 1;
+  const int right_centre = right.at<uchar>(y, x);
   int sad = 0;
   for (int dy = -w; dy <= w; ++dy) {
-    const uchar* l = left.ptr<uchar>(y + dy) + left_x;
-    const uchar* r = right.ptr<uchar>(y + dy) + right_x;
-    for (int dx = -w; dx <= w; ++dx) {
-      sad += std::abs((l[dx] - left_centre) - (r[dx] - right_centre));
-    }
+    const uchar* r = right.ptr<uchar>(y + dy) + x - w;
+    const int16_t* l = left.values.data() + (dy + w) * side;
+    for (int i = 0; i < side; ++i) sad += std::abs(l[i] + right_centre - r[i]);
   }
   return sad;
 }
@@ -92,10 +109,12 @@ Refined RefineBySad(const cv::KeyPoint& kp, float u_right0, const ImageFeatures&
   if (u_left - w < 0 || u_left + w >= left_image.cols) return result;
   if (u_right - range - w < 0 || u_right + range + w >= right_image.cols) return result;
 
-  std::vector<int> costs(2 * range + 1);
+  CenteredPatch left_patch;
+  FillCenteredPatch(left_image, u_left, v, w, left_patch);
+  std::array<int, 61> costs{};
   int best_offset = 0, best_cost = INT32_MAX;
   for (int offset = -range; offset <= range; ++offset) {
-    const int cost = CenteredSad(left_image, u_left, right_image, u_right + offset, v, w);
+    const int cost = CenteredSad(left_patch, right_image, u_right + offset, v);
     costs[offset + range] = cost;
     if (cost < best_cost) {
       best_cost = cost;
