@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -94,7 +95,8 @@ bool ParseDateTimeNanoseconds(const std::string& text, std::int64_t* nanoseconds
   int year = 0, month = 0, day = 0, hour = 0, minute = 0, second = 0, used = 0;
   if (std::sscanf(text.c_str(), "%d-%d-%d %d:%d:%d%n", &year, &month, &day, &hour, &minute, &second,
                   &used) != 6 ||
-      month < 1 || month > 12 || day < 1 || day > 31 || hour > 23 || minute > 59 || second > 60) {
+      month < 1 || month > 12 || day < 1 || day > 31 || hour < 0 || hour > 23 || minute < 0 ||
+      minute > 59 || second < 0 || second > 60) {
     return false;
   }
   std::string rest = text.substr(used);
@@ -103,12 +105,15 @@ bool ParseDateTimeNanoseconds(const std::string& text, std::int64_t* nanoseconds
   if (!rest.empty()) {
     if (rest[0] != '.' || rest.size() < 2 || rest.size() > 10) return false;
     std::string digits = rest.substr(1);
-    if (!std::all_of(digits.begin(), digits.end(), ::isdigit)) return false;
+    if (!std::all_of(digits.begin(), digits.end(),
+                     [](unsigned char c) { return std::isdigit(c) != 0; })) {
+      return false;
+    }
     digits.resize(9, '0');
     fraction = std::stoll(digits);
   }
-  const std::int64_t seconds =
-      DaysFromCivil(year, month, day) * 86400 + hour * 3600 + minute * 60 + second;
+  const std::int64_t seconds = DaysFromCivil(year, month, day) * 86400 + std::int64_t{hour} * 3600 +
+                               std::int64_t{minute} * 60 + second;
   *nanoseconds = seconds * 1'000'000'000 + fraction;
   return true;
 }
