@@ -60,6 +60,7 @@ class KittiSequence {
 
   // cam_from_velo: LiDAR (Velodyne) to the chosen left rectified camera frame, when calibrated
   // (odometry: `Tr` of calib.txt; raw: calib_velo_to_cam.txt with R_rect_00 and the camera offset).
+  // The colour pair adds its x offset P2(0,3)/fx to cam0 (see docs/io.md).
   const std::optional<Rigid3d>& cam_from_velo() const { return cam_from_velo_; }
   // Velodyne scan file of frame `index`, if the sequence has one.
   std::optional<std::filesystem::path> velodyne_path(std::size_t index) const;
