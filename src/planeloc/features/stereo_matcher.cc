@@ -2,6 +2,10 @@
 
 #include <tbb/task_group.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -36,19 +40,21 @@ std::vector<std::vector<int>> RowIndex(const std::vector<cv::KeyPoint>& right, i
 }
 
 // Left patch of the SAD search, relative to its centre pixel (robust to a brightness offset
-// between the cameras, as ORB-SLAM2), precomputed once per keypoint.
+// between the cameras, as ORB-SLAM2), precomputed once per keypoint. Rows are padded with zeros
+// to kStride values so that they can be processed 8 lanes at a time.
 struct CenteredPatch {
-  std::array<int16_t, 31 * 31> values{};
+  static constexpr int kStride = 32;
+  alignas(16) std::array<int16_t, 31 * kStride> values{};
   int half_size = 0;
 };
 
 void FillCenteredPatch(const cv::Mat& image, int x, int y, int w, CenteredPatch& patch) {
   patch.half_size = w;
   const int centre = image.at<uchar>(y, x);
-  int k = 0;
   for (int dy = -w; dy <= w; ++dy) {
-    const uchar* row = image.ptr<uchar>(y + dy) + x;
-    for (int dx = -w; dx <= w; ++dx) patch.values[k++] = static_cast<int16_t>(row[dx] - centre);
+    const uchar* row = image.ptr<uchar>(y + dy) + x - w;
+    int16_t* out = patch.values.data() + (dy + w) * CenteredPatch::kStride;
+    for (int i = 0; i < 2 * w + 1; ++i) out[i] = static_cast<int16_t>(row[i] - centre);
   }
 }
 
@@ -60,11 +66,45 @@ int CenteredSad(const CenteredPatch& left, const cv::Mat& right, int x, int y) {
   int sad = 0;
   for (int dy = -w; dy <= w; ++dy) {
     const uchar* r = right.ptr<uchar>(y + dy) + x - w;
-    const int16_t* l = left.values.data() + (dy + w) * side;
+    const int16_t* l = left.values.data() + (dy + w) * CenteredPatch::kStride;
     for (int i = 0; i < side; ++i) sad += std::abs(l[i] + right_centre - r[i]);
   }
   return sad;
 }
+
+// Number of right-image bytes past x + w that the vectorized SAD reads.
+int SadOverread(int w) { return 8 * ((2 * w + 8) / 8) - (2 * w + 1); }
+
+#if defined(__SSE2__)
+// The same sum, 8 pixels at a time (the SAD is ~70 % of the matching time when scalar). Reads
+// SadOverread(w) bytes beyond the window on each row; the caller checks they are in the image.
+int CenteredSadSse2(const CenteredPatch& left, const cv::Mat& right, int x, int y) {
+  const int w = left.half_size, side = 2 * w + 1, chunks = (side + 7) / 8;
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i right_centre = _mm_set1_epi16(static_cast<int16_t>(right.at<uchar>(y, x)));
+  alignas(16) int16_t mask_values[4][8];
+  for (int c = 0; c < chunks; ++c) {
+    for (int lane = 0; lane < 8; ++lane) mask_values[c][lane] = (8 * c + lane < side) ? 1 : 0;
+  }
+  __m128i sum = zero;
+  for (int dy = -w; dy <= w; ++dy) {
+    const uchar* r = right.ptr<uchar>(y + dy) + x - w;
+    const int16_t* l = left.values.data() + (dy + w) * CenteredPatch::kStride;
+    for (int c = 0; c < chunks; ++c) {
+      const __m128i r16 =
+          _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(r + 8 * c)), zero);
+      const __m128i l16 = _mm_load_si128(reinterpret_cast<const __m128i*>(l + 8 * c));
+      const __m128i d = _mm_sub_epi16(_mm_add_epi16(l16, right_centre), r16);
+      const __m128i abs_d = _mm_max_epi16(d, _mm_sub_epi16(zero, d));
+      const __m128i mask = _mm_load_si128(reinterpret_cast<const __m128i*>(mask_values[c]));
+      sum = _mm_add_epi32(sum, _mm_madd_epi16(abs_d, mask));
+    }
+  }
+  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(1, 0, 3, 2)));
+  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(2, 3, 0, 1)));
+  return _mm_cvtsi128_si32(sum);
+}
+#endif
 
 // Best right keypoint for left keypoint `kp` by Hamming distance among row candidates whose
 // level is within one of kp's and whose x lies in [min_u, max_u]; -1 if none is close enough.
@@ -109,12 +149,19 @@ Refined RefineBySad(const cv::KeyPoint& kp, float u_right0, const ImageFeatures&
   if (u_left - w < 0 || u_left + w >= left_image.cols) return result;
   if (u_right - range - w < 0 || u_right + range + w >= right_image.cols) return result;
 
+#if defined(__SSE2__)
+  const bool vectorized = u_right + range + w + SadOverread(w) < right_image.cols;
+#else
+  const bool vectorized = false;
+  const auto CenteredSadSse2 = CenteredSad;
+#endif
   CenteredPatch left_patch;
   FillCenteredPatch(left_image, u_left, v, w, left_patch);
   std::array<int, 61> costs{};
   int best_offset = 0, best_cost = INT32_MAX;
   for (int offset = -range; offset <= range; ++offset) {
-    const int cost = CenteredSad(left_patch, right_image, u_right + offset, v);
+    const int cost = vectorized ? CenteredSadSse2(left_patch, right_image, u_right + offset, v)
+                                : CenteredSad(left_patch, right_image, u_right + offset, v);
     costs[offset + range] = cost;
     if (cost < best_cost) {
       best_cost = cost;
