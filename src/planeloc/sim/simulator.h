@@ -14,11 +14,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
+#include "planeloc/sim/world.h"
 
 namespace planeloc::sim {
 
@@ -34,13 +36,13 @@ struct SimOptions {
   std::string preset = "small";  // "tiny" (straight, ~60 frames) | "small" (one turn, ~300) |
                                  // "kitti07-like" (~700 m loop, >= 4 turns, 1101 frames)
   std::uint32_t seed = 1;        // determines the town, the motion jitter and all noise
-  int frames = 0;                // number of frames; 0 = the preset's (or trajectory's) length
+  std::optional<int> frames;     // first N frames; unset = the preset's (or trajectory's) length
   Lighting lighting = Lighting::kConstant;
   std::filesystem::path texture_dir;      // images mapped onto facades; empty = procedural
   std::filesystem::path trajectory_path;  // KITTI pose file to drive along; empty = preset path
   bool show_progress = true;              // progress bar on stderr (only when it is a terminal)
 
-  // Throws InputError for an unknown preset, frames < 0, or an unreadable texture dir / pose file.
+  // Throws InputError for an unknown preset, frames <= 0, or an unreadable texture dir / pose file.
   void Check() const;
   // Defaults of a named preset; throws InputError for an unknown name.
   static SimOptions FromPreset(const std::string& name);
@@ -62,6 +64,17 @@ struct SimResult {
 // Uses all TBB threads; the bytes written do not depend on the thread count.
 SimResult GenerateSequence(const SimOptions& options, const std::filesystem::path& out_dir,
                            bool force = false);
+
+// The world and the camera motion of a run, before any rendering (tests and tools use it to
+// compare sensor output with the truth). W is the simulator's z-up world frame (ground z = 0).
+struct Scenario {
+  World world;                          // primitives and GT planes in W
+  std::vector<Rigid3d> world_from_cam;  // camera-0 poses in W, one per frame
+  Rigid3d cam0_from_world;              // W -> the frame of poses/00.txt and planes_gt.json
+  double path_length = 0.0;             // metres driven
+};
+// Throws InputError like SimOptions::Check (and for a malformed --trajectory file).
+Scenario BuildScenario(const SimOptions& options);
 
 // The KITTI-07 calibration the simulator writes.
 StereoCamera Kitti07Camera();  // fx = fy = 707.0912, cx = 601.8873, cy = 183.1104, b = 0.537

@@ -1,0 +1,157 @@
+#include "planeloc/sim/render.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "planeloc/util/error.h"
+
+namespace planeloc::sim {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// Sky radiance: bright near the horizon, a little darker overhead (KITTI skies are near white).
+float Sky(const Eigen::Vector3f& dir) { return 0.98f - 0.22f * std::max(dir.z(), 0.0f); }
+
+}  // namespace
+
+FrameLighting LightingForFrame(Lighting mode, std::uint32_t seed, int frame) {
+  FrameLighting light;
+  std::mt19937 rng(HashCombine(seed, 0x11647u));
+  std::uniform_real_distribution<float> phase(0.0f, 2.0f * kPi);
+  const float azimuth0 = phase(rng), p1 = phase(rng), p2 = phase(rng), p3 = phase(rng);
+  const float elevation = 0.75f;  // ~43 degrees
+  float azimuth = azimuth0;
+  if (mode == Lighting::kChanging) {
+    const float t = static_cast<float>(frame);
+    azimuth += 1.75f * t / 1000.0f;
+    light.exposure = 1.0f + 0.22f * std::sin(2.0f * kPi * t / 420.0f + p1) +
+                     0.08f * std::sin(2.0f * kPi * t / 67.0f + p2);
+    // Clouds: the direct light dims for a few seconds at a time.
+    const float cloud = 0.5f + 0.5f * std::sin(2.0f * kPi * t / 180.0f + p3);
+    light.sun = 0.65f * (1.0f - 0.7f * cloud * cloud * cloud);
+    light.ambient = 0.45f;
+    light.shadows = true;
+  }
+  light.to_sun = Eigen::Vector3f(std::cos(elevation) * std::cos(azimuth),
+                                 std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+  return light;
+}
+
+void CameraRenderOptions::Check() const {
+  if (supersampling < 1 || supersampling > 8) throw OptionsError("supersampling must be in [1, 8]");
+  if (!(noise_sigma >= 0.0f)) throw OptionsError("noise_sigma must be >= 0");
+}
+
+void LidarOptions::Check() const {
+  if (beams < 1) throw OptionsError("LidarOptions.beams must be >= 1");
+  if (azimuth_steps < 1) throw OptionsError("LidarOptions.azimuth_steps must be >= 1");
+  if (!(max_range > min_range && min_range >= 0.0)) throw OptionsError("LidarOptions: bad range");
+  if (!(range_noise >= 0.0)) throw OptionsError("LidarOptions.range_noise must be >= 0");
+}
+
+cv::Mat RenderView(const Scene& scene, const Shader& shader, const StereoCamera& camera,
+                   const Rigid3d& world_from_view, const FrameLighting& light,
+                   std::uint32_t noise_seed, const CameraRenderOptions& options) {
+  options.Check();
+  cv::Mat image(camera.height, camera.width, CV_8UC1);
+  const Eigen::Matrix3f rotation = world_from_view.RotationMatrix().cast<float>();
+  const Eigen::Vector3f origin = world_from_view.translation.cast<float>();
+  const int ss = options.supersampling;
+  const float inv_fx = 1.0f / static_cast<float>(camera.fx);
+  const float inv_fy = 1.0f / static_cast<float>(camera.fy);
+  // Metres per radian of sample spacing: the footprint of one sub-sample at unit distance.
+  const float spacing = inv_fx / static_cast<float>(ss);
+  const float inv_samples = 1.0f / static_cast<float>(ss * ss);
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, camera.height), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+          std::mt19937 rng(HashCombine(noise_seed, static_cast<std::uint32_t>(y)));
+          std::normal_distribution<float> noise(0.0f, options.noise_sigma);
+          std::uint8_t* out = image.ptr<std::uint8_t>(y);
+          for (int x = 0; x < camera.width; ++x) {
+            float sum = 0.0f;
+            for (int sy = 0; sy < ss; ++sy) {
+              for (int sx = 0; sx < ss; ++sx) {
+                const float px =
+                    static_cast<float>(x) + (static_cast<float>(sx) + 0.5f) / ss - 0.5f;
+                const float py =
+                    static_cast<float>(y) + (static_cast<float>(sy) + 0.5f) / ss - 0.5f;
+                const Eigen::Vector3f ray_cam((px - static_cast<float>(camera.cx)) * inv_fx,
+                                              (py - static_cast<float>(camera.cy)) * inv_fy, 1.0f);
+                const float ray_length = ray_cam.norm();
+                const Eigen::Vector3f dir = rotation * (ray_cam / ray_length);
+                Hit hit;
+                if (!scene.Intersect(origin, dir, 1e4f, &hit)) {
+                  sum += Sky(dir);
+                  continue;
+                }
+                const Eigen::Vector3f point = origin + hit.t * dir;
+                const float cosine = std::max(-hit.normal.dot(dir), 0.02f);
+                // Geometric mean of the footprint's two axes (t*s and t*s/cos): trilinear filtering
+                // that neither blurs grazing road too much nor lets it alias.
+                const float footprint = hit.t * spacing / std::sqrt(cosine);
+                const float albedo = shader.Albedo(hit, point, footprint);
+                float direct = std::max(hit.normal.dot(light.to_sun), 0.0f) * light.sun;
+                if (light.shadows && direct > 0.0f &&
+                    scene.Occluded(point + 0.02f * hit.normal, light.to_sun, 300.0f)) {
+                  direct = 0.0f;
+                }
+                sum += albedo * (light.ambient + direct);
+              }
+            }
+            const float value = 255.0f * light.exposure * sum * inv_samples + noise(rng);
+            out[x] = static_cast<std::uint8_t>(std::clamp(std::lround(value), 0l, 255l));
+          }
+        }
+      });
+  return image;
+}
+
+VelodyneScan ScanLidar(const Scene& scene, const Shader& shader, const Rigid3d& world_from_velo,
+                       std::uint32_t noise_seed, const LidarOptions& options) {
+  options.Check();
+  const Eigen::Matrix3f rotation = world_from_velo.RotationMatrix().cast<float>();
+  const Eigen::Vector3f origin = world_from_velo.translation.cast<float>();
+  std::vector<VelodyneScan> per_beam(static_cast<std::size_t>(options.beams));
+  tbb::parallel_for(0, options.beams, [&](int beam) {
+    std::mt19937 rng(HashCombine(noise_seed, static_cast<std::uint32_t>(beam)));
+    std::normal_distribution<double> noise(0.0, options.range_noise);
+    const double elevation =
+        options.beams == 1
+            ? options.max_elevation_deg
+            : options.max_elevation_deg - (options.max_elevation_deg - options.min_elevation_deg) *
+                                              beam / (options.beams - 1);
+    const double el = elevation * M_PI / 180.0;
+    VelodyneScan& out = per_beam[static_cast<std::size_t>(beam)];
+    out.points.reserve(static_cast<std::size_t>(options.azimuth_steps));
+    for (int step = 0; step < options.azimuth_steps; ++step) {
+      const double az = -M_PI + 2.0 * M_PI * step / options.azimuth_steps;
+      const Eigen::Vector3d dir_velo(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                                     std::sin(el));
+      const Eigen::Vector3f dir = rotation * dir_velo.cast<float>();
+      Hit hit;
+      // Draw the noise for every beam direction so one lost return never shifts the others.
+      const double range_noise = noise(rng);
+      if (!scene.Intersect(origin, dir, static_cast<float>(options.max_range), &hit)) continue;
+      if (hit.t < options.min_range) continue;
+      const Eigen::Vector3f point = origin + hit.t * dir;
+      out.points.push_back(dir_velo * (static_cast<double>(hit.t) + range_noise));
+      out.reflectance.push_back(shader.Reflectance(hit, point, dir));
+    }
+  });
+  VelodyneScan scan;
+  for (auto& beam : per_beam) {
+    scan.points.insert(scan.points.end(), beam.points.begin(), beam.points.end());
+    scan.reflectance.insert(scan.reflectance.end(), beam.reflectance.begin(),
+                            beam.reflectance.end());
+  }
+  return scan;
+}
+
+}  // namespace planeloc::sim

@@ -1,0 +1,28 @@
+// Writers of the simulator's KITTI-layout files (calib.txt, times.txt, poses, velodyne .bin,
+// planes_gt.json). Formats follow the KITTI odometry devkit; numbers use %.12e like KITTI's.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "planeloc/geometry/camera.h"
+#include "planeloc/geometry/rigid3.h"
+#include "planeloc/io/kitti_sequence.h"
+#include "planeloc/sim/world.h"
+
+namespace planeloc::sim {
+
+// P0 = K [I | 0], P1 = K [I | -b e_x] (P1(0,3) = -fx b), P2 = P0, P3 = P1 (no colour pair is
+// rendered), Tr = the 3x4 of `cam_from_velo_3x4` (written verbatim).
+void WriteCalib(const std::filesystem::path& path, const StereoCamera& camera,
+                const Eigen::Matrix<double, 3, 4>& cam_from_velo_3x4);
+void WriteTimes(const std::filesystem::path& path, int frames, double rate_hz);
+void WritePoses(const std::filesystem::path& path, const std::vector<Rigid3d>& world_from_cam);
+// float32 little-endian x, y, z, reflectance per point.
+void WriteScan(const std::filesystem::path& path, const VelodyneScan& scan);
+// GT planes of `world` expressed in the output frame: {"planes":[{"id","kind","normal","d",
+// "polygon","centroid","area"}], "stats":{...}}, readable by planeloc::ReadPlaneMap.
+void WritePlanesGt(const std::filesystem::path& path, const World& world,
+                   const Rigid3d& out_from_world);
+
+}  // namespace planeloc::sim

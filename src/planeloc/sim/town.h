@@ -1,0 +1,25 @@
+// Procedural town along a street centre line: ground, raised sidewalks with curbs, lane
+// markings, buildings (box facades with varied widths, heights, set-backs, gaps and corners),
+// trees, poles with signs and parked cars. Fully determined by the street and the seed.
+#pragma once
+
+#include <cstdint>
+
+#include "planeloc/sim/street.h"
+#include "planeloc/sim/world.h"
+
+namespace planeloc::sim {
+
+struct TownOptions {
+  double road_half_width = 5.0;  // metres, centre line to curb (two 3.5 m lanes + margins)
+  double sidewalk_width = 3.0;   // metres, curb to the nearest possible facade
+  double max_setback = 4.0;      // metres, facades stand 0..max_setback behind the sidewalk
+  double curb_height = 0.12;     // metres, sidewalk top above the road
+  double ground_margin = 150.0;  // metres of ground around the street (beyond LiDAR range)
+  bool clutter = true;           // trees, poles, parked cars
+  void Check() const;
+};
+
+World BuildTown(const StreetPath& street, std::uint32_t seed, const TownOptions& options = {});
+
+}  // namespace planeloc::sim
