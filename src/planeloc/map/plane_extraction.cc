@@ -1,0 +1,355 @@
+#include "planeloc/map/plane_extraction.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <numbers>
+#include <numeric>
+
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+double Cos(double degrees) { return std::cos(degrees * std::numbers::pi / 180.0); }
+
+// Running sums for an incremental plane fit (centroid and scatter).
+struct PlaneSums {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  std::size_t count = 0;
+
+  void Add(const Eigen::Vector3d& p) {
+    sum += p;
+    outer.noalias() += p * p.transpose();
+    ++count;
+  }
+  // Smallest-eigenvalue direction of the covariance, through the centroid.
+  Plane Fit() const {
+    const Eigen::Vector3d centroid = sum / static_cast<double>(count);
+    const Eigen::Matrix3d covariance =
+        outer / static_cast<double>(count) - centroid * centroid.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+    return Plane::FromPointAndNormal(centroid, solver.eigenvectors().col(0));
+  }
+};
+
+// A spatially connected coplanar patch: its points and plane.
+struct Patch {
+  std::vector<int> points;
+  Plane plane;
+  double rms = 0.0;
+};
+
+// Step 3: region growing of one patch from `seed` over same-cluster unassigned neighbours.
+std::vector<int> GrowPatch(int seed, const std::vector<Eigen::Vector3d>& points,
+                           const TensorVotingResult& voting, const std::vector<int>& cluster,
+                           std::vector<int>& assigned, int patch_id,
+                           const PlaneExtractionOptions& options) {
+  const double cos_growth = Cos(options.growth_angle_deg);
+  const Neighborhoods& hoods = voting.neighborhoods;
+  PlaneSums sums;
+  Plane plane = Plane::FromPointAndNormal(points[seed], voting.normals[seed]);
+  std::vector<int> members = {seed};
+  assigned[seed] = patch_id;
+  sums.Add(points[seed]);
+  std::size_t next_refit = 16;
+  for (std::size_t head = 0; head < members.size(); ++head) {
+    const int p = members[head];
+    for (auto k = hoods.begin(p); k < hoods.end(p); ++k) {
+      const int j = hoods.indices[k];
+      if (assigned[j] >= 0 || cluster[j] != cluster[seed]) continue;
+      if (std::abs(voting.normals[j].dot(plane.normal)) < cos_growth) continue;
+      if (std::abs(plane.SignedDistance(points[j])) > options.growth_distance) continue;
+      assigned[j] = patch_id;
+      members.push_back(j);
+      sums.Add(points[j]);
+      if (sums.count >= next_refit) {
+        plane = sums.Fit();
+        next_refit *= 2;
+      }
+    }
+  }
+  return members;
+}
+
+// Steps 2-4: orientation clusters, then patches by region growing, then a robust fit each.
+std::vector<Patch> FindPatches(const std::vector<Eigen::Vector3d>& points,
+                               const TensorVotingResult& voting,
+                               const PlaneExtractionOptions& options, nlohmann::json& stats) {
+  std::vector<int> surface;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (voting.classes[i] == SaliencyClass::kSurface &&
+        voting.stick[i] >= options.min_stick_saliency) {
+      surface.push_back(static_cast<int>(i));
+    }
+  }
+  stats["surface_points"] = surface.size();
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<float> weights;
+  for (const int i : surface) {
+    normals.push_back(voting.normals[i]);
+    weights.push_back(voting.stick[i]);
+  }
+  const NormalClusters clusters = ClusterNormals(normals, weights, options.clustering);
+  stats["normal_clusters"] = clusters.centers.size();
+  std::vector<int> cluster(points.size(), -1);
+  for (std::size_t s = 0; s < surface.size(); ++s) cluster[surface[s]] = clusters.labels[s];
+  // Seeds in order of decreasing saliency: the most planar points start patches.
+  std::vector<int> seeds = surface;
+  std::stable_sort(seeds.begin(), seeds.end(),
+                   [&](int a, int b) { return voting.stick[a] > voting.stick[b]; });
+  std::vector<int> assigned(points.size(), -1);
+  std::vector<Patch> patches;
+  for (const int seed : seeds) {
+    if (assigned[seed] != -1) continue;
+    const int id = static_cast<int>(patches.size());
+    std::vector<int> members = GrowPatch(seed, points, voting, cluster, assigned, id, options);
+    if (static_cast<int>(members.size()) < options.min_patch_points) {
+      for (const int m : members) assigned[m] = -2;  // tried: neither seed nor member again
+      continue;
+    }
+    Patch patch;
+    std::vector<int> inliers;
+    if (!FitPlaneRobust(points, members, options.inlier_distance, patch.plane, inliers,
+                        patch.rms)) {
+      continue;
+    }
+    patch.points = std::move(inliers);
+    patches.push_back(std::move(patch));
+  }
+  stats["patches"] = patches.size();
+  return patches;
+}
+
+int Find(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+// Step 5: merges adjacent patches lying on the same plane, then refits the merged groups.
+std::vector<Patch> MergePatches(const std::vector<Eigen::Vector3d>& points,
+                                const Neighborhoods& hoods, std::vector<Patch> patches,
+                                const PlaneExtractionOptions& options) {
+  std::vector<int> owner(points.size(), -1);
+  for (std::size_t p = 0; p < patches.size(); ++p) {
+    for (const int i : patches[p].points) owner[i] = static_cast<int>(p);
+  }
+  std::vector<std::pair<int, int>> adjacent;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (owner[i] < 0) continue;
+    for (auto k = hoods.begin(i); k < hoods.end(i); ++k) {
+      const int o = owner[hoods.indices[k]];
+      if (o > owner[i]) adjacent.emplace_back(owner[i], o);
+    }
+  }
+  std::sort(adjacent.begin(), adjacent.end());
+  adjacent.erase(std::unique(adjacent.begin(), adjacent.end()), adjacent.end());
+  std::vector<int> parent(patches.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  const double cos_merge = Cos(options.merge_angle_deg);
+  auto centroid = [&](const Patch& patch) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const int i : patch.points) sum += points[i];
+    return Eigen::Vector3d(sum / static_cast<double>(patch.points.size()));
+  };
+  for (const auto& [a, b] : adjacent) {
+    const Plane& pa = patches[a].plane;
+    const Plane& pb = patches[b].plane;
+    if (std::abs(pa.normal.dot(pb.normal)) < cos_merge) continue;
+    if (std::abs(pa.SignedDistance(centroid(patches[b]))) > options.merge_distance) continue;
+    if (std::abs(pb.SignedDistance(centroid(patches[a]))) > options.merge_distance) continue;
+    parent[Find(parent, a)] = Find(parent, b);
+  }
+  std::vector<std::vector<int>> groups(patches.size());
+  for (std::size_t p = 0; p < patches.size(); ++p) {
+    auto& group = groups[Find(parent, static_cast<int>(p))];
+    group.insert(group.end(), patches[p].points.begin(), patches[p].points.end());
+  }
+  std::vector<Patch> merged;
+  for (auto& group : groups) {
+    if (group.empty()) continue;
+    std::sort(group.begin(), group.end());
+    Patch patch;
+    std::vector<int> inliers;
+    if (!FitPlaneRobust(points, group, options.inlier_distance, patch.plane, inliers, patch.rms)) {
+      continue;
+    }
+    patch.points = std::move(inliers);
+    merged.push_back(std::move(patch));
+  }
+  return merged;
+}
+
+// Orientation convention: ground normals point up; other normals have a positive largest
+// component, so the same plane always gets the same (n, d).
+Plane Orient(const Plane& plane, const Eigen::Vector3d& up, double cos_kind) {
+  const Eigen::Vector3d& n = plane.normal;
+  if (std::abs(n.dot(up)) >= cos_kind) return n.dot(up) >= 0.0 ? plane : plane.Flipped();
+  Eigen::Index axis = 0;
+  n.cwiseAbs().maxCoeff(&axis);
+  return n(axis) >= 0.0 ? plane : plane.Flipped();
+}
+
+// Steps 6-7 for one patch: outline, area, extent, kind. Returns false when rejected.
+bool Describe(const std::vector<Eigen::Vector3d>& points, const Patch& patch,
+              const PlaneExtractionOptions& options, MapPlane& out) {
+  if (static_cast<int>(patch.points.size()) < options.min_inliers) return false;
+  if (patch.rms > options.max_rms) return false;
+  const Eigen::Vector3d up = options.up.normalized();
+  const double cos_kind = Cos(options.kind_angle_deg);
+  out.plane_in_map = Orient(patch.plane, up, cos_kind);
+  const Eigen::Vector3d& n = out.plane_in_map.normal;
+  const Eigen::Vector3d helper =
+      std::abs(n.dot(up)) < 0.9 ? up : Eigen::Vector3d(Eigen::Vector3d::UnitX());
+  const Eigen::Vector3d u = n.cross(helper).normalized();
+  const Eigen::Vector3d v = n.cross(u);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const int i : patch.points) centroid += points[i];
+  centroid /= static_cast<double>(patch.points.size());
+  centroid = out.plane_in_map.Project(centroid);
+  std::vector<Eigen::Vector2d> flat;
+  flat.reserve(patch.points.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const int i : patch.points) {
+    const Eigen::Vector3d r = points[i] - centroid;
+    flat.emplace_back(r.dot(u), r.dot(v));
+    scatter.noalias() += flat.back() * flat.back().transpose();
+  }
+  // Width along the minor principal axis of the inliers (the oriented box's short side).
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(scatter);
+  const Eigen::Vector2d minor = solver.eigenvectors().col(0);
+  double lo = 0.0, hi = 0.0;
+  for (const auto& f : flat) {
+    lo = std::min(lo, f.dot(minor));
+    hi = std::max(hi, f.dot(minor));
+  }
+  if (hi - lo < options.min_extent) return false;
+  const std::vector<Eigen::Vector2d> hull = ConvexHull2d(std::move(flat));
+  out.area = PolygonArea2d(hull);
+  if (out.area < options.min_area) return false;
+  out.polygon.clear();
+  for (const auto& h : hull) out.polygon.push_back(centroid + h.x() * u + h.y() * v);
+  out.centroid = centroid;
+  out.inliers = static_cast<int>(patch.points.size());
+  out.rms = patch.rms;
+  const double up_dot = std::abs(n.dot(up));
+  out.kind = up_dot >= cos_kind ? "ground" : (up_dot <= 1.0 - cos_kind ? "facade" : "other");
+  return true;
+}
+
+}  // namespace
+
+void PlaneExtractionOptions::Check() const {
+  clustering.Check();
+  auto require = [](bool ok, const char* message) {
+    if (!ok) throw OptionsError(std::string("PlaneExtractionOptions.") + message);
+  };
+  require(min_stick_saliency >= 0.0 && min_stick_saliency <= 1.0,
+          "min_stick_saliency must be in [0, 1]");
+  require(growth_angle_deg > 0.0 && growth_angle_deg < 90.0, "growth_angle_deg must be in (0, 90)");
+  require(growth_distance > 0.0, "growth_distance must be > 0 (metres)");
+  require(min_patch_points >= 3, "min_patch_points must be >= 3");
+  require(inlier_distance > 0.0, "inlier_distance must be > 0 (metres)");
+  require(merge_angle_deg > 0.0 && merge_angle_deg < 90.0, "merge_angle_deg must be in (0, 90)");
+  require(merge_distance >= 0.0, "merge_distance must be >= 0 (metres)");
+  require(min_inliers >= 3, "min_inliers must be >= 3");
+  require(min_area >= 0.0, "min_area must be >= 0 (m^2)");
+  require(min_extent >= 0.0, "min_extent must be >= 0 (metres)");
+  require(max_rms > 0.0, "max_rms must be > 0 (metres)");
+  require(up.allFinite() && up.norm() > 1e-9, "up must be a non-zero vector");
+  require(kind_angle_deg > 0.0 && kind_angle_deg < 45.0, "kind_angle_deg must be in (0, 45)");
+}
+
+bool FitPlaneRobust(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices,
+                    double inlier_distance, Plane& plane, std::vector<int>& inliers, double& rms) {
+  // Shrinking trimming thresholds: a first fit pulled by outliers still keeps the true inliers
+  // within 4x the final threshold, and each refit moves closer to them.
+  constexpr double kScales[] = {4.0, 2.0, 1.0, 1.0};
+  inliers = indices;
+  for (const double scale : kScales) {
+    if (inliers.size() < 3) return false;
+    PlaneSums sums;
+    for (const int i : inliers) sums.Add(points[i]);
+    plane = sums.Fit();
+    std::vector<int> kept;
+    for (const int i : indices) {
+      if (std::abs(plane.SignedDistance(points[i])) <= scale * inlier_distance) kept.push_back(i);
+    }
+    inliers = std::move(kept);
+  }
+  if (inliers.size() < 3) return false;
+  PlaneSums sums;
+  for (const int i : inliers) sums.Add(points[i]);
+  plane = sums.Fit();
+  double sum2 = 0.0;
+  for (const int i : inliers) sum2 += std::pow(plane.SignedDistance(points[i]), 2);
+  rms = std::sqrt(sum2 / static_cast<double>(inliers.size()));
+  return true;
+}
+
+std::vector<Eigen::Vector2d> ConvexHull2d(std::vector<Eigen::Vector2d> points) {
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (points.size() < 3) return points;
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Eigen::Vector2d> hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {  // lower chain
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i > 0; --i) {  // upper chain
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0) --k;
+    hull[k++] = points[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+double PolygonArea2d(const std::vector<Eigen::Vector2d>& polygon) {
+  double twice = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const auto& a = polygon[i];
+    const auto& b = polygon[(i + 1) % polygon.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * std::abs(twice);
+}
+
+PlaneExtractionResult ExtractPlanes(const std::vector<Eigen::Vector3d>& points,
+                                    const TensorVotingResult& voting,
+                                    const PlaneExtractionOptions& options) {
+  options.Check();
+  if (voting.size() != points.size() || voting.neighborhoods.size() != points.size()) {
+    throw std::invalid_argument("ExtractPlanes: tensor-voting result does not match the points");
+  }
+  PlaneExtractionResult result;
+  nlohmann::json& stats = result.plane_map.stats;
+  stats["points"] = points.size();
+  std::vector<Patch> patches = FindPatches(points, voting, options, stats);
+  patches = MergePatches(points, voting.neighborhoods, std::move(patches), options);
+  stats["merged_patches"] = patches.size();
+  std::stable_sort(patches.begin(), patches.end(), [](const Patch& a, const Patch& b) {
+    return a.points.size() > b.points.size();
+  });
+  result.point_plane.assign(points.size(), -1);
+  std::size_t labelled = 0;
+  for (const Patch& patch : patches) {
+    MapPlane plane;
+    if (!Describe(points, patch, options, plane)) continue;
+    plane.id = static_cast<int>(result.plane_map.planes.size());
+    for (const int i : patch.points) result.point_plane[i] = plane.id;
+    labelled += patch.points.size();
+    result.plane_map.planes.push_back(std::move(plane));
+  }
+  stats["planes"] = result.plane_map.planes.size();
+  stats["plane_points"] = labelled;
+  return result;
+}
+
+}  // namespace planeloc

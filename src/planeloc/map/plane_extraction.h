@@ -1,0 +1,67 @@
+// Plane map from a tensor-voted point cloud (the paper's second step, made robust):
+//  1. surface points: class kSurface and normalized stick saliency >= min_stick_saliency;
+//  2. axial k-means on their normals (normal_clustering.h), k chosen by merging;
+//  3. per orientation cluster, region growing over the tensor-voting neighbourhoods into
+//     spatially connected coplanar patches (normal within growth_angle_deg of the patch normal,
+//     point within growth_distance of the patch plane, patch plane refitted as it grows);
+//  4. robust total-least-squares fit per patch (iteratively trimmed at inlier_distance);
+//  5. adjacent patches on the same plane (angle < merge_angle_deg, offsets < merge_distance) are
+//     merged — this also joins a plane whose normals straddled two k-means clusters;
+//  6. planes with too few inliers, too small an area or extent, or too large an rms are rejected
+//     (cars and hedges are small, foliage is rough);
+//  7. outline: 2-D convex hull of the inliers in plane coordinates, area = hull area.
+// Everything is in the cloud's frame (the map frame). Deterministic.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "planeloc/io/plane_map.h"
+#include "planeloc/map/normal_clustering.h"
+#include "planeloc/map/tensor_voting.h"
+
+namespace planeloc {
+
+struct PlaneExtractionOptions {
+  double min_stick_saliency = 0.5;  // (l1 - l2) / l1 a surface point needs, in [0, 1]
+  NormalClusteringOptions clustering;
+  double growth_angle_deg = 15.0;  // normal vs patch normal during region growing
+  double growth_distance = 0.10;   // metres, point to patch plane during region growing
+  int min_patch_points = 30;       // smaller grown patches are dropped before fitting
+  double inlier_distance = 0.08;   // metres, trimming threshold of the robust fit
+  double merge_angle_deg = 3.0;    // adjacent patches closer than this in angle ...
+  double merge_distance = 0.10;    // ... and in offset (metres) are one plane
+  int min_inliers = 200;           // planes with fewer inliers are rejected
+  double min_area = 8.0;           // m^2, smaller planes (cars, signs) are rejected
+  double min_extent = 1.8;         // metres, smaller width of the outline's oriented box
+  double max_rms = 0.05;           // metres, rougher "planes" (hedges, foliage) are rejected
+  // Up direction of the map frame, for the "ground" / "facade" kind and normal orientation.
+  // KITTI maps (camera-0 world frame, y down): (0, -1, 0); a raw Velodyne scan: (0, 0, 1).
+  Eigen::Vector3d up = -Eigen::Vector3d::UnitY();
+  double kind_angle_deg = 10.0;  // normal within this of up = ground, of horizontal = facade
+
+  void Check() const;  // throws OptionsError naming the field
+};
+
+struct PlaneExtractionResult {
+  PlaneMap plane_map;            // planes sorted by inliers, ids 0..n-1; stats filled
+  std::vector<int> point_plane;  // plane id per input point, -1 when not on a plane
+};
+
+// `voting` must come from RunTensorVoting(points, ...). An input without planar structure gives an
+// empty plane map (not an error; the caller warns).
+PlaneExtractionResult ExtractPlanes(const std::vector<Eigen::Vector3d>& points,
+                                    const TensorVotingResult& voting,
+                                    const PlaneExtractionOptions& options);
+
+// Robust plane fit used per patch: total least squares, refitted on the points within 4, 2, 1 and
+// 1 times `inlier_distance` of the previous fit (a pulled first fit still keeps the inliers).
+// Returns false when fewer than 3 inliers remain. Exposed for tests.
+bool FitPlaneRobust(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices,
+                    double inlier_distance, Plane& plane, std::vector<int>& inliers, double& rms);
+
+// Convex hull (counter-clockwise) of 2-D points and its area; exposed for tests.
+std::vector<Eigen::Vector2d> ConvexHull2d(std::vector<Eigen::Vector2d> points);
+double PolygonArea2d(const std::vector<Eigen::Vector2d>& polygon);
+
+}  // namespace planeloc
