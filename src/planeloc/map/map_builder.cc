@@ -1,0 +1,105 @@
+#include "planeloc/map/map_builder.h"
+
+#include <open3d/geometry/PointCloud.h>
+#include <spdlog/spdlog.h>
+
+#include <string>
+
+#include "planeloc/util/error.h"
+#include "planeloc/util/progress.h"
+
+namespace planeloc {
+
+void MapBuildOptions::Check() const {
+  if (!(voxel_size >= 0.0)) throw OptionsError("MapBuildOptions.voxel_size must be >= 0 (m)");
+  if (every < 1) throw OptionsError("MapBuildOptions.every must be >= 1");
+  if (!(min_range >= 0.0)) throw OptionsError("MapBuildOptions.min_range must be >= 0 (m)");
+  if (!(max_range > min_range)) {
+    throw OptionsError("MapBuildOptions.max_range must be > min_range (m)");
+  }
+  if (buffer_points < 1000) throw OptionsError("MapBuildOptions.buffer_points must be >= 1000");
+}
+
+std::vector<Eigen::Vector3d> VoxelDownsample(const std::vector<Eigen::Vector3d>& points,
+                                             double voxel_size) {
+  if (voxel_size <= 0.0 || points.empty()) return points;
+  open3d::geometry::PointCloud cloud;
+  cloud.points_ = points;
+  return std::move(cloud.VoxelDownSample(voxel_size)->points_);
+}
+
+MapAccumulator::MapAccumulator(MapBuildOptions options) : options_(std::move(options)) {
+  options_.Check();
+}
+
+void MapAccumulator::AddScan(const std::vector<Eigen::Vector3d>& points_in_velo,
+                             const Rigid3d& world_from_velo) {
+  const double min2 = options_.min_range * options_.min_range;
+  const double max2 = options_.max_range * options_.max_range;
+  std::vector<Eigen::Vector3d> kept;
+  kept.reserve(points_in_velo.size());
+  for (const auto& p : points_in_velo) {
+    const double r2 = p.squaredNorm();
+    if (r2 >= min2 && r2 <= max2 && p.allFinite()) kept.push_back(world_from_velo * p);
+  }
+  kept = VoxelDownsample(kept, options_.voxel_size);
+  points_.insert(points_.end(), kept.begin(), kept.end());
+  ++scans_;
+  if (points_.size() - compacted_size_ > options_.buffer_points) Compact();
+}
+
+void MapAccumulator::Compact() {
+  points_ = VoxelDownsample(points_, options_.voxel_size);
+  compacted_size_ = points_.size();
+}
+
+PointCloud MapAccumulator::Finish() {
+  Compact();
+  PointCloud map;
+  map.points = std::move(points_);
+  points_.clear();
+  compacted_size_ = 0;
+  return map;
+}
+
+PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequence,
+                    const Trajectory& poses) {
+  options.Check();
+  const std::string folder = sequence.folder().string();
+  CheckInput(poses.size() == sequence.size(), folder, 0,
+             "the poses have " + std::to_string(poses.size()) + " entries but the sequence has " +
+                 std::to_string(sequence.size()) + " frames",
+             "give the pose file of this sequence (one world_from_cam per frame)");
+  CheckInput(sequence.cam_from_velo().has_value(), folder, 0,
+             "the sequence has no LiDAR-to-camera calibration (Tr / calib_velo_to_cam.txt)",
+             "use a sequence with its Velodyne calibration");
+  const Rigid3d cam_from_velo = *sequence.cam_from_velo();
+  MapAccumulator accumulator(options);
+  std::size_t missing = 0;
+  const std::size_t total = (sequence.size() + options.every - 1) / options.every;
+  ProgressBar progress("map build", total, "scans");
+  if (!options.show_progress) progress.Finish();
+  for (std::size_t i = 0, done = 0; i < sequence.size(); i += options.every, ++done) {
+    const auto path = sequence.velodyne_path(i);
+    if (!path || !std::filesystem::exists(*path)) {
+      ++missing;
+      continue;
+    }
+    const VelodyneScan scan = ReadVelodyneScan(*path);
+    accumulator.AddScan(scan.points, poses.world_from_cam[i] * cam_from_velo);
+    if (options.show_progress) progress.Update(done + 1);
+  }
+  progress.Finish();
+  if (missing > 0) spdlog::warn("map build: {} of {} frames have no Velodyne scan", missing, total);
+  CheckInput(accumulator.scans() > 0, folder, 0, "no Velodyne scan found in the sequence",
+             "check the sequence's velodyne/ (or velodyne_points/data/) folder");
+  PointCloud map = accumulator.Finish();
+  CheckInput(!map.empty(), folder, 0,
+             "the map is empty: no scan point lies within the range limits",
+             "check --min-range / --max-range (metres)");
+  spdlog::info("map build: {} scans -> {} points (voxel {} m)", accumulator.scans(), map.size(),
+               options.voxel_size);
+  return map;
+}
+
+}  // namespace planeloc

@@ -1,0 +1,59 @@
+// Accumulation of LiDAR scans into a voxel-downsampled point-cloud map (`planeloc map build`).
+// A scan point p (Velodyne frame) goes to the map (= world, the poses' frame) as
+//   point_in_world = world_from_cam_i * cam_from_velo * p.
+// Downsampling is incremental (each scan, then the whole buffer when it grows), so memory stays
+// proportional to the map, not to the number of scans.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <vector>
+
+#include "planeloc/geometry/rigid3.h"
+#include "planeloc/io/kitti_sequence.h"
+#include "planeloc/io/point_cloud.h"
+#include "planeloc/io/trajectory.h"
+
+namespace planeloc {
+
+struct MapBuildOptions {
+  double voxel_size = 0.10;  // metres, edge of the downsampling voxel (0 = no downsampling)
+  int every = 1;             // use every N-th scan
+  double min_range = 2.0;    // metres from the sensor: closer points (the car itself) dropped
+  double max_range = 60.0;   // metres: farther points (sparse, noisy) dropped
+  std::size_t buffer_points = 4'000'000;  // re-downsample the map when this many points pile up
+  bool show_progress = true;              // progress bar on stderr (terminal only)
+
+  void Check() const;  // throws OptionsError naming the field
+};
+
+// Streams scans into a map. Not thread-safe.
+class MapAccumulator {
+ public:
+  explicit MapAccumulator(MapBuildOptions options);
+  // Adds the points of one scan (sensor frame) within [min_range, max_range], moved to the world.
+  void AddScan(const std::vector<Eigen::Vector3d>& points_in_velo, const Rigid3d& world_from_velo);
+  std::size_t scans() const { return scans_; }
+  // The downsampled map (world frame). Call once.
+  PointCloud Finish();
+
+ private:
+  void Compact();
+
+  MapBuildOptions options_;
+  std::vector<Eigen::Vector3d> points_;
+  std::size_t compacted_size_ = 0;
+  std::size_t scans_ = 0;
+};
+
+// Voxel-grid downsampling (Open3D, centroid per voxel); returns the input when voxel_size <= 0.
+std::vector<Eigen::Vector3d> VoxelDownsample(const std::vector<Eigen::Vector3d>& points,
+                                             double voxel_size);
+
+// Builds the map of `sequence` with `poses` (world_from_cam of the sequence's left camera, one per
+// frame). Throws InputError if the counts differ, the sequence has no LiDAR calibration or no
+// scan, or the map ends up empty; frames without a scan file are skipped with a warning.
+PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequence,
+                    const Trajectory& poses);
+
+}  // namespace planeloc

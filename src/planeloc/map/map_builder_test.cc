@@ -1,0 +1,72 @@
+#include "planeloc/map/map_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "planeloc/util/error.h"
+#include "planeloc/util/temp_dir.h"
+
+namespace planeloc {
+namespace {
+
+// A 10 m x 10 m grid at z = -1.7 (road below the sensor), 5 cm spacing, in the Velodyne frame.
+std::vector<Eigen::Vector3d> RoadScan() {
+  std::vector<Eigen::Vector3d> points;
+  for (double x = -5.0; x < 5.0; x += 0.05) {
+    for (double y = -5.0; y < 5.0; y += 0.05) points.emplace_back(x, y, -1.7);
+  }
+  return points;
+}
+
+TEST(MapAccumulatorTest, TransformsFiltersRangeAndDownsamples) {
+  MapBuildOptions options;
+  options.voxel_size = 0.2;
+  options.min_range = 2.0;
+  options.max_range = 4.0;
+  options.show_progress = false;
+  MapAccumulator accumulator(options);
+  const Rigid3d world_from_velo(Eigen::Quaterniond::Identity(), Eigen::Vector3d(100, 0, 10));
+  accumulator.AddScan(RoadScan(), world_from_velo);
+  accumulator.AddScan(RoadScan(), world_from_velo);  // the same points again: no growth
+  EXPECT_EQ(accumulator.scans(), 2u);
+  const PointCloud map = accumulator.Finish();
+  ASSERT_FALSE(map.empty());
+  // Range ring 2..4 m around (100, 0) of area pi (4^2 - 1.7^2 ... ) ~ 40 m^2 at 0.2 m voxels.
+  EXPECT_LT(map.size(), 1500u);
+  EXPECT_GT(map.size(), 500u);
+  for (const auto& p : map.points) {
+    EXPECT_NEAR(p.z(), 10.0 - 1.7, 1e-9);
+    const double r = Eigen::Vector3d(p.x() - 100.0, p.y(), -1.7).norm();
+    EXPECT_GE(r, 2.0 - 0.2);
+    EXPECT_LE(r, 4.0 + 0.2);
+  }
+}
+
+TEST(MapAccumulatorTest, CompactionKeepsTheMapBounded) {
+  MapBuildOptions options;
+  options.voxel_size = 0.1;
+  options.buffer_points = 1000;
+  options.max_range = 100.0;
+  MapAccumulator accumulator(options);
+  for (int i = 0; i < 10; ++i) {
+    accumulator.AddScan(RoadScan(),
+                        Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.01 * i, 0, 0)));
+  }
+  const PointCloud map = accumulator.Finish();
+  // 10 m x 10.1 m at 0.1 m voxels minus the 2 m hole: ~ 10 000 points, not 10 scans' worth.
+  EXPECT_LT(map.size(), 11000u);
+  EXPECT_GT(map.size(), 8000u);
+}
+
+TEST(MapBuildOptionsTest, Check) {
+  MapBuildOptions options;
+  options.every = 0;
+  EXPECT_THROW(options.Check(), OptionsError);
+  options = MapBuildOptions();
+  options.max_range = 1.0;
+  EXPECT_THROW(options.Check(), OptionsError);
+}
+
+}  // namespace
+}  // namespace planeloc

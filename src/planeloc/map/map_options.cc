@@ -1,0 +1,120 @@
+#include "planeloc/map/map_options.h"
+
+#include <spdlog/spdlog.h>
+#include <yaml-cpp/yaml.h>
+
+#include <functional>
+#include <map>
+
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+// One settable field: reads a YAML scalar/sequence into the struct, writes it to JSON.
+struct Field {
+  std::function<void(const YAML::Node&)> read;
+  std::function<nlohmann::json()> write;
+};
+using FieldTable = std::map<std::string, Field>;
+
+template <typename T>
+Field MakeField(T& value) {
+  return {[&value](const YAML::Node& node) { value = node.as<T>(); },
+          [&value]() { return nlohmann::json(value); }};
+}
+
+Field VectorField(Eigen::Vector3d& value) {
+  return {[&value](const YAML::Node& node) {
+            const auto v = node.as<std::vector<double>>();
+            if (v.size() != 3) throw YAML::Exception(node.Mark(), "expected 3 numbers");
+            value = Eigen::Vector3d(v[0], v[1], v[2]);
+          },
+          [&value]() {
+            return nlohmann::json({value.x(), value.y(), value.z()});
+          }};
+}
+
+FieldTable Fields(MapPlanesOptions& o) {
+  auto& tv = o.tensor_voting;
+  auto& pe = o.plane_extraction;
+  auto& cl = pe.clustering;
+  return {
+      {"tensor_voting.sigma", MakeField(tv.sigma)},
+      {"tensor_voting.radius_factor", MakeField(tv.radius_factor)},
+      {"tensor_voting.curvature_weight", MakeField(tv.curvature_weight)},
+      {"tensor_voting.max_stick_angle_deg", MakeField(tv.max_stick_angle_deg)},
+      {"tensor_voting.stick_passes", MakeField(tv.stick_passes)},
+      {"plane_extraction.min_stick_saliency", MakeField(pe.min_stick_saliency)},
+      {"plane_extraction.growth_angle_deg", MakeField(pe.growth_angle_deg)},
+      {"plane_extraction.growth_distance", MakeField(pe.growth_distance)},
+      {"plane_extraction.min_patch_points", MakeField(pe.min_patch_points)},
+      {"plane_extraction.inlier_distance", MakeField(pe.inlier_distance)},
+      {"plane_extraction.merge_angle_deg", MakeField(pe.merge_angle_deg)},
+      {"plane_extraction.merge_distance", MakeField(pe.merge_distance)},
+      {"plane_extraction.min_inliers", MakeField(pe.min_inliers)},
+      {"plane_extraction.min_area", MakeField(pe.min_area)},
+      {"plane_extraction.min_extent", MakeField(pe.min_extent)},
+      {"plane_extraction.max_rms", MakeField(pe.max_rms)},
+      {"plane_extraction.up", VectorField(pe.up)},
+      {"plane_extraction.kind_angle_deg", MakeField(pe.kind_angle_deg)},
+      {"plane_extraction.clustering.max_clusters", MakeField(cl.max_clusters)},
+      {"plane_extraction.clustering.merge_angle_deg", MakeField(cl.merge_angle_deg)},
+      {"plane_extraction.clustering.iterations", MakeField(cl.iterations)},
+      {"plane_extraction.clustering.max_seed_samples", MakeField(cl.max_seed_samples)},
+  };
+}
+
+void Visit(const YAML::Node& node, const std::string& prefix, const FieldTable& fields,
+           const std::filesystem::path& path, std::vector<std::string>& unknown) {
+  for (const auto& entry : node) {
+    const std::string key = prefix + entry.first.as<std::string>();
+    const auto it = fields.find(key);
+    if (it != fields.end()) {
+      try {
+        it->second.read(entry.second);
+      } catch (const YAML::Exception&) {
+        throw InputError(path.string(), entry.second.Mark().line + 1,
+                         "option '" + key + "' has a value of the wrong type",
+                         "give a number (or [x, y, z] for 'up')");
+      }
+    } else if (entry.second.IsMap()) {
+      Visit(entry.second, key + ".", fields, path, unknown);
+    } else {
+      unknown.push_back(key);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> LoadMapPlanesOptions(const std::filesystem::path& path,
+                                              MapPlanesOptions& options) {
+  CheckInput(std::filesystem::is_regular_file(path), path.string(), 0, "options file not found",
+             "check the --options path");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path.string());
+  } catch (const YAML::Exception& e) {
+    throw InputError(path.string(), e.mark.line + 1, "not valid YAML: " + e.msg,
+                     "fix the YAML syntax");
+  }
+  std::vector<std::string> unknown;
+  if (root.IsNull()) return unknown;  // an empty file: all defaults
+  CheckInput(root.IsMap(), path.string(), 1, "the options file is not a YAML mapping",
+             "write `tensor_voting:` and `plane_extraction:` sections");
+  Visit(root, "", Fields(options), path, unknown);
+  for (const auto& key : unknown) {
+    spdlog::warn("{}: unknown option '{}' ignored", path.string(), key);
+  }
+  return unknown;
+}
+
+nlohmann::json MapOptionsToJson(const MapPlanesOptions& options) {
+  MapPlanesOptions copy = options;
+  nlohmann::json json = nlohmann::json::object();
+  for (const auto& [key, field] : Fields(copy)) json[key] = field.write();
+  return json;
+}
+
+}  // namespace planeloc

@@ -1,0 +1,39 @@
+// YAML options of `planeloc map planes` (--options FILE):
+//
+//   tensor_voting:      {sigma: 0.5, radius_factor: 1.5, curvature_weight: 10,
+//                        max_stick_angle_deg: 45, stick_passes: 2}
+//   plane_extraction:   {min_stick_saliency: 0.5, growth_angle_deg: 15, ..., up: [0, -1, 0],
+//                        clustering: {max_clusters: 20, merge_angle_deg: 12, ...}}
+//
+// Every key is optional (defaults from the structs). Unknown keys are warned about (and listed
+// together); a value of the wrong type is an InputError naming the file and line. The effective
+// options are written back into planes.json's stats by MapOptionsToJson.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "planeloc/map/plane_extraction.h"
+#include "planeloc/map/tensor_voting.h"
+
+namespace planeloc {
+
+struct MapPlanesOptions {
+  TensorVotingOptions tensor_voting;
+  PlaneExtractionOptions plane_extraction;
+  void Check() const {
+    tensor_voting.Check();
+    plane_extraction.Check();
+  }
+};
+
+// Overwrites the fields present in the file; returns the unknown keys (dotted paths), which it also
+// logs as warnings. Throws InputError for a missing/unparsable file or a mistyped value.
+std::vector<std::string> LoadMapPlanesOptions(const std::filesystem::path& path,
+                                              MapPlanesOptions& options);
+
+nlohmann::json MapOptionsToJson(const MapPlanesOptions& options);
+
+}  // namespace planeloc
