@@ -1,0 +1,195 @@
+// `planeloc eval`: trajectory error against ground truth, identical to evo (see docs/eval.md).
+#include <fmt/format.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "command_registry.h"
+#include "planeloc/eval/report.h"
+#include "planeloc/util/error.h"
+#include "planeloc/util/temp_dir.h"
+
+extern char** environ;
+
+namespace planeloc::cli {
+namespace {
+
+struct EvalArgs {
+  std::string gt;
+  std::string est;
+  std::string format = "kitti";
+  std::string gt_times;
+  std::string est_times;
+  double max_diff = 0.01;
+  std::string align = "none";
+  std::string plane;
+  bool plane_before_align = false;
+  double rpe_delta = 0.0;  // 0: no RPE
+  std::string rpe_unit = "frames";
+  bool rpe_all_pairs = false;
+  bool rpe_pairs_from_reference = false;
+  bool kitti_drift = false;
+  std::string json;
+  std::string plot;
+};
+
+// tools/plot_trajectory.py: $PLANELOC_TOOLS_DIR, then beside the build tree
+// (build/bin/../../tools), then the source tree this binary was built from.
+std::filesystem::path FindPlotScript() {
+  std::vector<std::filesystem::path> candidates;
+  if (const char* dir = std::getenv("PLANELOC_TOOLS_DIR")) candidates.emplace_back(dir);
+  std::error_code error;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) candidates.push_back(exe.parent_path().parent_path().parent_path() / "tools");
+#ifdef PLANELOC_SOURCE_DIR
+  candidates.push_back(std::filesystem::path(PLANELOC_SOURCE_DIR) / "tools");
+#endif
+  for (const auto& dir : candidates) {
+    const std::filesystem::path script = dir / "plot_trajectory.py";
+    if (std::filesystem::exists(script)) return script;
+  }
+  throw InputError(
+      "", "tools/plot_trajectory.py not found (needed by --plot)",
+      "run planeloc from its build tree or set PLANELOC_TOOLS_DIR to the tools folder");
+}
+
+// Runs `argv` with MPLBACKEND=Agg (no display needed); returns the exit code, 127 if python3
+// cannot be started.
+int RunWithAggBackend(const std::vector<std::string>& argv) {
+  std::vector<std::string> env_strings;
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (std::strncmp(*e, "MPLBACKEND=", 11) != 0) env_strings.emplace_back(*e);
+  }
+  env_strings.emplace_back("MPLBACKEND=Agg");
+  std::vector<char*> env;
+  for (auto& s : env_strings) env.push_back(s.data());
+  env.push_back(nullptr);
+  std::vector<std::string> args = argv;
+  std::vector<char*> c_args;
+  for (auto& s : args) c_args.push_back(s.data());
+  c_args.push_back(nullptr);
+  std::fflush(stdout);
+  pid_t pid = 0;
+  if (posix_spawnp(&pid, c_args[0], nullptr, nullptr, c_args.data(), env.data()) != 0) return 127;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return 127;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+void WritePlot(const EvalArgs& args, const EvalInputs& inputs, const EvalOptions& options,
+               const EvalReport& report) {
+  const std::filesystem::path script = FindPlotScript();
+  const TempDir temp("planeloc-eval");
+  const std::filesystem::path csv = temp.path() / "plot.csv";
+  WritePlotCsv(csv, inputs, report);
+  std::string plane = ToString(options.plane);
+  if (options.plane == ProjectionPlane::kNone) {
+    // KITTI camera frames have the ground in x-z; TUM files are usually z-up.
+    plane = options.format == TrajectoryFormat::kKitti ? "xz" : "xy";
+  }
+  const std::string title = fmt::format("{} vs {} (align {}, APE rmse {:.3f} m)",
+                                        std::filesystem::path(args.est).filename().string(),
+                                        std::filesystem::path(args.gt).filename().string(),
+                                        ToString(report.ape.alignment.type), report.ape.stats.rmse);
+  const int code = RunWithAggBackend({"python3", script.string(), "--csv", csv.string(), "--out",
+                                      args.plot, "--plane", plane, "--title", title});
+  if (code == 127) {
+    throw InputError(args.plot, "--plot needs python3, which was not found",
+                     "install python3 and python3-matplotlib (./scripts/setup.sh) or drop --plot");
+  }
+  if (code == 3) {
+    throw InputError(args.plot, "--plot needs matplotlib, which python3 cannot import",
+                     "install python3-matplotlib (./scripts/setup.sh) or drop --plot");
+  }
+  if (code != 0) {
+    throw InputError(args.plot, fmt::format("{} failed with exit code {}", script.string(), code),
+                     "check that the output folder exists and is writable");
+  }
+}
+
+EvalOptions ToOptions(const EvalArgs& args) {
+  EvalOptions options;
+  options.format = ParseTrajectoryFormat(args.format);
+  if (!args.gt_times.empty()) options.gt_times = args.gt_times;
+  if (!args.est_times.empty()) options.est_times = args.est_times;
+  options.max_time_difference_s = args.max_diff;
+  options.alignment = ParseAlignmentType(args.align);
+  options.plane = ParseProjectionPlane(args.plane);
+  options.plane_before_align = args.plane_before_align;
+  if (args.rpe_delta > 0.0) {
+    RpeOptions rpe;
+    rpe.delta = args.rpe_delta;
+    rpe.delta_unit = ParseDeltaUnit(args.rpe_unit);
+    rpe.all_pairs = args.rpe_all_pairs;
+    rpe.pairs_from_reference = args.rpe_pairs_from_reference;
+    options.rpe = rpe;
+  }
+  options.kitti_drift = args.kitti_drift;
+  options.Check();
+  return options;
+}
+
+int Run(const EvalArgs& args) {
+  const EvalOptions options = ToOptions(args);
+  const EvalInputs inputs = LoadEvalInputs(args.gt, args.est, options);
+  const EvalReport report = Evaluate(inputs, options);
+  std::fputs(FormatReportTable(inputs, options, report).c_str(), stdout);
+  if (!args.json.empty()) {
+    std::ofstream stream(args.json);
+    if (!stream) {
+      throw InputError(args.json, "cannot open the JSON output for writing",
+                       "check that the folder exists and is writable");
+    }
+    stream << ReportToJson(inputs, options, report).dump(2) << '\n';
+    if (!stream) throw InputError(args.json, "write failed", "check free space");
+  }
+  if (!args.plot.empty()) WritePlot(args, inputs, options, report);
+  return 0;
+}
+
+const CommandRegistrar kRegistrar("eval", [](CLI::App& app) -> CommandRunner {
+  auto args = std::make_shared<EvalArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "eval", "Trajectory error against ground truth: APE, RPE, KITTI drift (identical to evo)");
+  cmd->add_option("--gt", args->gt, "Ground-truth trajectory")->required();
+  cmd->add_option("--est", args->est, "Estimated trajectory")->required();
+  cmd->add_option("--format", args->format, "kitti | tum")->capture_default_str();
+  cmd->add_option("--gt-times", args->gt_times, "KITTI: times.txt of the GT (one line per pose)");
+  cmd->add_option("--est-times", args->est_times,
+                  "KITTI: times of the estimate; with --gt-times, pair poses by timestamp");
+  cmd->add_option("--max-diff", args->max_diff, "Timestamp association tolerance, s")
+      ->capture_default_str();
+  cmd->add_option("--align", args->align, "none | se3 | sim3 (Umeyama on positions)")
+      ->capture_default_str();
+  cmd->add_option("--plane", args->plane,
+                  "xz | xy | yz: project after alignment (KITTI ground plane is xz)");
+  cmd->add_flag("--plane-before-align", args->plane_before_align,
+                "APE: project before aligning (evo library order) instead of after");
+  cmd->add_option("--rpe-delta", args->rpe_delta, "RPE delta (0 = no RPE)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--rpe-unit", args->rpe_unit, "frames | m")->capture_default_str();
+  cmd->add_flag("--rpe-all-pairs", args->rpe_all_pairs,
+                "RPE: every start pose instead of consecutive checkpoints");
+  cmd->add_flag("--rpe-pairs-from-reference", args->rpe_pairs_from_reference,
+                "RPE: choose pairs on the GT path instead of the estimate's");
+  cmd->add_flag("--kitti-drift", args->kitti_drift,
+                "KITTI devkit drift over 100..800 m segments (t_rel %, r_rel deg/100m)");
+  cmd->add_option("--json", args->json, "Write the statistics as JSON");
+  cmd->add_option("--plot", args->plot, "Write a PNG: top view and APE over time (matplotlib)");
+  return [args] { return Run(*args); };
+});
+
+}  // namespace
+}  // namespace planeloc::cli
