@@ -1,0 +1,94 @@
+// `planeloc run`: stereo visual odometry over a KITTI sequence (see docs/tracking.md).
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "command_registry.h"
+#include "planeloc/tracking/run_sequence.h"
+#include "planeloc/util/error.h"
+
+namespace planeloc::cli {
+namespace {
+
+struct RunArgs {
+  std::string sequence;
+  std::string init_pose_from;
+  std::string init_pose;
+  bool no_planes = false;
+  std::string planes;
+  std::string out;
+  std::string format = "kitti";
+  std::string stats;
+  std::string config;
+  bool deterministic = false;
+  int threads = 0;
+  std::string cameras = "auto";
+  int frames = 0;
+};
+
+int Run(const RunArgs& args) {
+  if (!args.planes.empty()) {
+    throw InputError(args.planes, 0, "plane-constrained mode is not implemented yet",
+                     "use --no-planes");
+  }
+  if (!args.no_planes) {
+    throw InputError("", 0, "no plane map given", "pass --no-planes (visual odometry only)");
+  }
+  RunOptions options;
+  options.sequence = args.sequence;
+  options.cameras = ParseCameraChoice(args.cameras);
+  if (!args.init_pose_from.empty()) {
+    options.world_from_cam_initial = ReadFirstPose(args.init_pose_from);
+  } else if (!args.init_pose.empty()) {
+    options.world_from_cam_initial = ParsePose12(args.init_pose);
+  }
+  options.trajectory_path = args.out;
+  options.format = ParseTrajectoryFormat(args.format);
+  if (!args.stats.empty()) options.stats_path = args.stats;
+  if (!args.config.empty()) options.settings_path = args.config;
+  options.deterministic = args.deterministic;
+  options.threads = args.threads;
+  options.max_frames = args.frames;
+  const RunSummary summary = RunSequence(options);
+  spdlog::info(
+      "{} frames in {:.1f} s ({:.1f} fps): {} tracked, {} lost, {} skipped, {} keyframes, "
+      "{:.0f} tracked points per frame, median BA reprojection error {:.3f} px",
+      summary.frames, summary.seconds, summary.frames / std::max(summary.seconds, 1e-9),
+      summary.tracked, summary.lost, summary.skipped, summary.keyframes,
+      summary.mean_tracked_points, summary.median_ba_reprojection_px);
+  spdlog::info("trajectory: {}", args.out);
+  return 0;
+}
+
+const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
+  auto args = std::make_shared<RunArgs>();
+  CLI::App* cmd = app.add_subcommand("run", "Track a stereo sequence (visual odometry)");
+  cmd->add_option("--sequence", args->sequence,
+                  "KITTI odometry sequence folder or raw drive folder")
+      ->required();
+  auto* from = cmd->add_option("--init-pose-from", args->init_pose_from,
+                               "KITTI/TUM pose file whose first pose is frame 0's world_from_cam");
+  auto* pose = cmd->add_option("--init-pose", args->init_pose,
+                               "\"12 numbers\": frame 0's world_from_cam, row-major 3x4");
+  from->excludes(pose);
+  auto* no_planes = cmd->add_flag("--no-planes", args->no_planes, "Visual odometry only");
+  auto* planes = cmd->add_option("--planes", args->planes, "Plane map (not implemented yet)");
+  no_planes->excludes(planes);
+  cmd->add_option("--out", args->out, "Output trajectory (one pose per frame)")->required();
+  cmd->add_option("--format", args->format, "kitti | tum")->capture_default_str();
+  cmd->add_option("--stats", args->stats, "Per-frame statistics, JSON lines");
+  cmd->add_option("--config", args->config, "ORB-SLAM2 KITTI settings YAML / planeloc keys");
+  cmd->add_flag("--deterministic", args->deterministic, "Local BA in line: bit-identical runs");
+  cmd->add_option("--threads", args->threads, "Threads (0 = settings' default of 2)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--cameras", args->cameras, "auto | grey | color")->capture_default_str();
+  cmd->add_option("--frames", args->frames, "Track only the first N frames (0 = all)")
+      ->check(CLI::NonNegativeNumber);
+  return [args] { return Run(*args); };
+});
+
+}  // namespace
+}  // namespace planeloc::cli

@@ -1,0 +1,56 @@
+// Runs local bundle adjustments on one owned worker thread. The tracker hands over a copy of the
+// window (a WindowProblem, plain numbers keyed by id) and later takes the result back and applies
+// it by id; the map itself is never shared, so there is no map mutex. One job at a time: while
+// a job runs, new submissions are refused (the next keyframe's window covers the same area).
+#pragma once
+
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <stop_token>
+#include <thread>
+
+#include "planeloc/geometry/camera.h"
+#include "planeloc/optim/window_ba.h"
+
+namespace planeloc {
+
+struct BaJob {
+  int keyframe_id = 0;  // keyframe whose insertion triggered the BA
+  WindowProblem problem;
+  WindowBaResult result;
+  double milliseconds = 0;  // solve time
+};
+
+// Solves one job in the calling thread (the deterministic path; also used by the worker).
+void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJob& job);
+
+class BaWorker {
+ public:
+  BaWorker(const StereoCamera& camera, const WindowBaOptions& options);
+  ~BaWorker();  // stops and joins; a running solve finishes first
+  BaWorker(const BaWorker&) = delete;
+  BaWorker& operator=(const BaWorker&) = delete;
+
+  // Queues a job; false (job dropped) if one is pending or running.
+  bool Submit(BaJob job);
+  // The finished job, if any (non-blocking).
+  std::optional<BaJob> TakeResult();
+  // Blocks until no job is pending or running, then returns its result if any.
+  std::optional<BaJob> WaitResult();
+
+ private:
+  void Run(std::stop_token stop);
+
+  StereoCamera camera_;
+  WindowBaOptions options_;
+  std::mutex mutex_;
+  std::condition_variable_any wake_;
+  std::condition_variable done_;
+  std::optional<BaJob> pending_;
+  std::optional<BaJob> finished_;
+  bool running_ = false;
+  std::jthread thread_;  // last member: started after the state above exists
+};
+
+}  // namespace planeloc

@@ -1,0 +1,47 @@
+// The mapping steps run when a keyframe is inserted, as free functions over the SparseMap:
+// new points from the keyframe's stereo matches, culling of recent points, and the local BA
+// window (built here, solved by optim/window_ba, applied back by id).
+#pragma once
+
+#include <vector>
+
+#include "planeloc/geometry/camera.h"
+#include "planeloc/optim/window_ba.h"
+#include "planeloc/tracking/map.h"
+#include "planeloc/tracking/settings.h"
+
+namespace planeloc {
+
+// Adds a map point for every unmatched keypoint of the keyframe with a stereo depth below
+// close depth, then nearest-first further ones up to far depth, and at least
+// `min_new_stereo_points` points in total (ORB-SLAM2 CreateNewKeyFrame). Returns the new ids.
+std::vector<int> CreateStereoPoints(SparseMap& map, int keyframe_id, const StereoCamera& camera,
+                                    const TrackerOptions& options);
+
+// ORB-SLAM2 MapPointCulling over the recently created points: erase a point whose found/visible
+// ratio is below min_found_ratio, or that two keyframes after its creation is observed by fewer
+// than min_point_observations keyframes; points older than three keyframes leave the list.
+// Returns the number of erased points.
+int CullRecentPoints(SparseMap& map, std::vector<int>& recent_point_ids, int current_keyframe_id,
+                     const TrackerOptions& options);
+
+// The local BA window around `keyframe_id`: it and its best covisible keyframes are free; other
+// keyframes observing the window's points are fixed anchors (the most connected first). The
+// first keyframe of the map (the given initial pose) is always fixed, and the oldest window
+// keyframe is fixed when nothing else is (gauge freedom).
+WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id,
+                               const TrackerOptions& options);
+
+struct BaApplyStats {
+  int keyframes = 0;                  // poses updated
+  int points = 0;                     // positions updated
+  int removed_observations = 0;       // outliers unlinked
+  double median_reprojection_px = 0;  // over inlier stereo/mono observations, after BA
+};
+
+// Writes the solution back by id (ids that no longer exist are skipped) and unlinks outlier
+// observations. Does nothing when the solution is not usable.
+BaApplyStats ApplyWindowBa(SparseMap& map, const WindowProblem& problem,
+                           const WindowBaResult& result, const StereoCamera& camera);
+
+}  // namespace planeloc

@@ -1,0 +1,226 @@
+// Unit tests of the tracker's containers and matching, on hand-made features (no images).
+#include "planeloc/tracking/map.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "planeloc/tracking/frame.h"
+#include "planeloc/tracking/local_mapping.h"
+#include "planeloc/tracking/matcher.h"
+
+namespace planeloc {
+namespace {
+
+StereoCamera TestCamera() {
+  StereoCamera camera;
+  camera.fx = camera.fy = 700;
+  camera.cx = 600;
+  camera.cy = 185;
+  camera.baseline = 0.5;
+  camera.width = 1200;
+  camera.height = 370;
+  return camera;
+}
+
+// Features of the given camera-frame points seen by `camera` (stereo where depth > 0).
+StereoFeatures FeaturesOf(const std::vector<Eigen::Vector3d>& points_in_cam,
+                          const cv::Mat& descriptors, const StereoCamera& camera) {
+  StereoFeatures f;
+  f.left.descriptors = descriptors.clone();
+  for (const Eigen::Vector3d& p : points_in_cam) {
+    const Eigen::Vector3d uvr = *camera.ProjectStereo(p);
+    f.left.keypoints.emplace_back(cv::Point2f(uvr.x(), uvr.y()), 31.f, 45.f, 0.f, 0);
+    f.u_right.push_back(static_cast<float>(uvr.z()));
+    f.depth.push_back(static_cast<float>(p.z()));
+  }
+  return f;
+}
+
+cv::Mat RandomDescriptors(int n, std::mt19937& rng) {
+  cv::Mat d(n, 32, CV_8U);
+  std::uniform_int_distribution<int> byte(0, 255);
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < 32; ++c) d.at<uint8_t>(r, c) = static_cast<uint8_t>(byte(rng));
+  }
+  return d;
+}
+
+std::vector<Eigen::Vector3d> RandomPoints(int n, std::mt19937& rng) {
+  std::uniform_real_distribution<double> x(-6, 6), y(-2, 2), z(5, 15);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < n; ++i) points.emplace_back(x(rng), y(rng), z(rng));
+  return points;
+}
+
+TEST(FeatureGridTest, InAreaEqualsBruteForce) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1200), v(0, 370);
+  std::uniform_int_distribution<int> level(0, 7);
+  std::vector<cv::KeyPoint> keypoints;
+  for (int i = 0; i < 2000; ++i)
+    keypoints.emplace_back(cv::Point2f(u(rng), v(rng)), 31.f, -1.f, 0.f, level(rng));
+  const FeatureGrid grid(keypoints, 1200, 370);
+  for (int trial = 0; trial < 50; ++trial) {
+    const double cu = u(rng), cv = v(rng), r = 5 + trial;
+    std::vector<int> expected;
+    for (int i = 0; i < 2000; ++i) {
+      if (std::abs(keypoints[i].pt.x - cu) <= r && std::abs(keypoints[i].pt.y - cv) <= r &&
+          keypoints[i].octave >= 1 && keypoints[i].octave <= 3) {
+        expected.push_back(i);
+      }
+    }
+    EXPECT_EQ(grid.InArea(keypoints, cu, cv, r, 1, 3), expected);
+  }
+}
+
+TEST(SparseMapTest, CovisibilityAndErase) {
+  std::mt19937 rng(5);
+  const StereoCamera camera = TestCamera();
+  const std::vector<Eigen::Vector3d> points = RandomPoints(30, rng);
+  const cv::Mat descriptors = RandomDescriptors(30, rng);
+  SparseMap map;
+  const Frame frame(0, 0.0, FeaturesOf(points, descriptors, camera), camera);
+  const int a = map.AddKeyframe(frame), b = map.AddKeyframe(frame), c = map.AddKeyframe(frame);
+  std::vector<int> ids;
+  for (int i = 0; i < 30; ++i) ids.push_back(map.AddPoint(points[i], a, i));
+  for (int i = 0; i < 20; ++i) map.AddObservation(ids[i], b, i);  // a-b share 20
+  for (int i = 0; i < 5; ++i) map.AddObservation(ids[i], c, i);   // a-c 5, b-c 5
+  map.UpdateConnections(a);
+  map.UpdateConnections(b);
+  EXPECT_EQ(map.keyframe(a).covisibility.at(b), 20);
+  EXPECT_EQ(map.keyframe(b).covisibility.at(a), 20);
+  EXPECT_EQ(map.keyframe(c).covisibility.at(a), 5);
+  EXPECT_EQ(map.BestCovisible(a, 5), (std::vector<int>{b, c}));
+  EXPECT_EQ(map.BestCovisible(c, 5), (std::vector<int>{a, b}));  // tie: id ascending
+  EXPECT_EQ(map.NumTrackedPoints(a, 2), 20);
+  EXPECT_EQ(map.NumTrackedPoints(a, 3), 5);
+
+  map.ErasePoint(ids[0]);
+  EXPECT_FALSE(map.HasPoint(ids[0]));
+  EXPECT_EQ(map.keyframe(a).map_point_ids[0], -1);
+  EXPECT_EQ(map.keyframe(c).map_point_ids[0], -1);
+  map.UpdateConnections(c);
+  EXPECT_EQ(map.keyframe(a).covisibility.at(c), 4);
+
+  // A point keeps a descriptor of one of its observations and a scale range around its distance.
+  const MapPoint& p = map.point(ids[1]);
+  EXPECT_EQ(cv::norm(p.descriptor, descriptors.row(1), cv::NORM_HAMMING), 0);
+  const double distance = points[1].norm();
+  EXPECT_LE(p.min_distance, distance);
+  EXPECT_GE(p.max_distance, distance - 1e-9);
+}
+
+TEST(MatcherTest, FindsProjectedPointsAndRejectsInconsistentRotation) {
+  std::mt19937 rng(7);
+  const StereoCamera camera = TestCamera();
+  const std::vector<Eigen::Vector3d> points = RandomPoints(200, rng);
+  const cv::Mat descriptors = RandomDescriptors(200, rng);
+  Frame frame(1, 0.1, FeaturesOf(points, descriptors, camera), camera);
+  // The frame's true pose is identity; predict it 5 cm off.
+  frame.cam_from_world = Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.05, 0, 0));
+  std::vector<MatchSource> sources;
+  for (int i = 0; i < 200; ++i) {
+    MatchSource s;
+    s.point_in_world = points[i];
+    s.descriptor = descriptors.row(i);
+    s.radius = 10;
+    s.angle = 45;
+    sources.push_back(s);
+  }
+  // Ten sources see their keypoint rotated by 90 degrees: the histogram check drops them.
+  for (int i = 0; i < 10; ++i) sources[i].angle = 135;
+  MatchOptions options;
+  options.check_orientation = true;
+  const std::vector<ProjectionMatch> matches = MatchByProjection(sources, frame, camera, options);
+  int in_image = 0;  // the sources that project into the image and are consistent
+  for (int i = 10; i < 200; ++i) {
+    const Eigen::Vector2d uv = *camera.Project(frame.cam_from_world * points[i]);
+    in_image += (uv.x() >= 0 && uv.x() < camera.width && uv.y() >= 0 && uv.y() < camera.height);
+  }
+  ASSERT_GT(in_image, 150);
+  int correct = 0;
+  for (const ProjectionMatch& m : matches) {
+    EXPECT_GE(m.keypoint, 10);
+    correct += m.keypoint == m.source ? 1 : 0;
+  }
+  EXPECT_EQ(correct, in_image);
+  EXPECT_EQ(static_cast<int>(matches.size()), in_image);
+
+  // Already associated keypoints are not matched again.
+  const int taken = matches.front().keypoint;
+  frame.map_point_ids[taken] = 3;
+  const std::vector<ProjectionMatch> again = MatchByProjection(sources, frame, camera, options);
+  EXPECT_EQ(static_cast<int>(again.size()), in_image - 1);
+  for (const ProjectionMatch& m : again) EXPECT_NE(m.keypoint, taken);
+}
+
+TEST(LocalMappingTest, WindowFixesAnchorsAndGauge) {
+  std::mt19937 rng(11);
+  const StereoCamera camera = TestCamera();
+  const std::vector<Eigen::Vector3d> points = RandomPoints(60, rng);
+  const cv::Mat descriptors = RandomDescriptors(60, rng);
+  const Frame frame(0, 0.0, FeaturesOf(points, descriptors, camera), camera);
+  SparseMap map;
+  TrackerOptions options;
+  options.ba_window_keyframes = 2;
+  std::vector<int> kfs;
+  for (int k = 0; k < 4; ++k) kfs.push_back(map.AddKeyframe(frame));
+  // Keyframe 0 creates stereo points; 1..3 observe a decreasing share of them.
+  const std::vector<int> created = CreateStereoPoints(map, kfs[0], camera, options);
+  ASSERT_EQ(created.size(), 60u);
+  for (int k = 1; k < 4; ++k) {
+    for (int id : created) {
+      const int keypoint = map.point(id).observations.at(kfs[0]);
+      if (keypoint < 60 - 15 * k) map.AddObservation(id, kfs[k], keypoint);
+    }
+  }
+  for (int k : kfs) map.UpdateConnections(k);
+  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options);
+  // Window: kf 3 and its best covisible (a tie at 15 shared points: the lowest id, kf 0); all
+  // others observing its points are fixed anchors; keyframe 0 (the initial pose) stays fixed.
+  std::map<int, bool> fixed;
+  for (const WindowKeyframe& kf : problem.keyframes) fixed[kf.id] = kf.fixed;
+  ASSERT_EQ(fixed.size(), 4u);
+  EXPECT_FALSE(fixed[kfs[3]]);
+  EXPECT_TRUE(fixed[kfs[0]]);
+  EXPECT_TRUE(fixed[kfs[1]]);
+  EXPECT_TRUE(fixed[kfs[2]]);
+  EXPECT_EQ(problem.points.size(), 60u);  // everything kf 0 sees
+  EXPECT_EQ(problem.observations.size(), 60u + 45u + 30u + 15u);
+
+  // A perfect BA result keeps everything; an outlier flag unlinks that observation.
+  WindowBaResult result;
+  result.usable = true;
+  for (const WindowPoint& p : problem.points) result.point_in_world[p.id] = p.point_in_world;
+  result.observation_inlier.assign(problem.observations.size(), true);
+  result.observation_inlier[0] = false;
+  const BaApplyStats stats = ApplyWindowBa(map, problem, result, camera);
+  EXPECT_EQ(stats.removed_observations, 1);
+  EXPECT_LT(stats.median_reprojection_px, 1e-3);
+  EXPECT_FALSE(map.point(problem.observations[0].point_id)
+                   .observations.count(problem.observations[0].keyframe_id));
+}
+
+TEST(LocalMappingTest, CullsPointsNotSeenAgain) {
+  std::mt19937 rng(13);
+  const StereoCamera camera = TestCamera();
+  const std::vector<Eigen::Vector3d> points = RandomPoints(10, rng);
+  const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(10, rng), camera), camera);
+  SparseMap map;
+  TrackerOptions options;
+  const int k0 = map.AddKeyframe(frame);
+  std::vector<int> recent = CreateStereoPoints(map, k0, camera, options);
+  const int k1 = map.AddKeyframe(frame);
+  map.AddObservation(recent[0], k1, 0);
+  map.mutable_point(recent[1]).visible = 10;  // found 1 of 10: below 0.25
+  EXPECT_EQ(CullRecentPoints(map, recent, k1, options), 1);
+  const int k2 = map.AddKeyframe(frame);
+  // Two keyframes later, points seen by one keyframe only go; the re-observed one stays.
+  EXPECT_EQ(CullRecentPoints(map, recent, k2, options), 8);
+  EXPECT_TRUE(map.HasPoint(0));
+  EXPECT_EQ(map.points().size(), 1u);
+}
+
+}  // namespace
+}  // namespace planeloc

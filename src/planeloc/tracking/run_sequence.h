@@ -1,0 +1,57 @@
+// Tracks a whole KITTI-layout sequence: reads frames one at a time, writes one pose per frame
+// (flushed), optional per-frame JSON stats, and the effective settings next to the trajectory.
+// The controller behind `planeloc run`; it does no maths itself.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "planeloc/geometry/rigid3.h"
+#include "planeloc/io/kitti_sequence.h"
+#include "planeloc/io/trajectory.h"
+#include "planeloc/tracking/settings.h"
+#include "planeloc/tracking/tracker.h"
+
+namespace planeloc {
+
+struct RunOptions {
+  std::filesystem::path sequence;  // KITTI odometry sequence folder or raw drive folder
+  CameraChoice cameras = CameraChoice::kAuto;
+  Rigid3d world_from_cam_initial;         // pose of frame 0; the trajectory is in its frame
+  std::filesystem::path trajectory_path;  // required
+  TrajectoryFormat format = TrajectoryFormat::kKitti;
+  std::optional<std::filesystem::path> stats_path;     // JSON lines, one per frame
+  std::optional<std::filesystem::path> settings_path;  // ORB-SLAM2 / planeloc YAML
+  bool write_effective_settings = true;                // <trajectory>.config.yaml
+  bool deterministic = false;
+  int threads = 0;     // 0: keep the settings' value
+  int max_frames = 0;  // 0: all
+  bool show_progress = true;
+};
+
+struct RunSummary {
+  int frames = 0;
+  int tracked = 0;  // state tracking or relocalized
+  int lost = 0;
+  int skipped = 0;
+  int keyframes = 0;
+  double mean_tracked_points = 0;
+  double median_ba_reprojection_px = 0;  // median over the BA medians reported
+  double seconds = 0;                    // wall time of the tracking loop
+  std::vector<FrameStats> stats;         // per frame
+  std::vector<Rigid3d> world_from_cam;   // per frame, as written
+  TrackerOptions options;                // effective
+};
+
+// Throws InputError for unreadable input (sequence, settings, output folder).
+RunSummary RunSequence(const RunOptions& options);
+
+// The first pose of a KITTI (12 numbers a line) or TUM (8 numbers) pose file, detected from
+// the first line.
+Rigid3d ReadFirstPose(const std::filesystem::path& path);
+// "12 numbers" (row-major 3x4 world_from_cam).
+Rigid3d ParsePose12(const std::string& text);
+
+}  // namespace planeloc

@@ -1,0 +1,93 @@
+// Options of the stereo tracker and their settings file.
+//
+// A settings file is an ORB-SLAM2 KITTI settings YAML (`%YAML:1.0` header, keys `Camera.fx`,
+// `ThDepth`, `ORBextractor.nFeatures`, ...) optionally extended with planeloc's own keys
+// (`Tracking.*`, `LocalBA.*`, `Stereo.*`). Every key is optional: built-in defaults apply.
+// Camera intrinsics always come from the sequence's calibration; `Camera.*` values in the file
+// are compared against it and a mismatch is warned about (a settings file of another KITTI
+// sequence group must not silently change the geometry).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "planeloc/features/orb_extractor.h"
+#include "planeloc/features/stereo_matcher.h"
+#include "planeloc/geometry/camera.h"
+#include "planeloc/optim/pose_optimizer.h"
+#include "planeloc/optim/window_ba.h"
+
+namespace planeloc {
+
+struct TrackerOptions {
+  OrbOptions orb;
+  StereoMatchOptions stereo;
+  PoseOptimizerOptions pose;
+  WindowBaOptions ba;
+
+  // Stereo points closer than close_depth_baselines * baseline are "close" (ORB-SLAM2 ThDepth):
+  // reliable depth, used to create map points and to decide keyframes.
+  double close_depth_baselines = 40.0;
+  // Frame rate of the sequence (Hz); a keyframe is forced after `fps` frames without one.
+  double fps = 10.0;
+
+  // Frame-to-frame search radius at level 0 (pixels), scaled by the pyramid scale of the level;
+  // doubled once if too few matches are found.
+  double motion_search_radius = 7.0;
+  // Minimum frame-to-frame matches before falling back to the reference keyframe.
+  int min_motion_matches = 20;
+  // Pose-optimization inliers after the local-map search below which the frame is lost.
+  int min_tracked_inliers = 30;
+  // Local map: keyframes sharing points with the frame plus their covisible neighbours.
+  int max_local_keyframes = 60;
+  // Multiplier of the local-map search radius (ORB-SLAM2 th: 1 for stereo).
+  double local_search_radius = 1.0;
+
+  // Keyframe decision (ORB-SLAM2 stereo rules).
+  double keyframe_tracked_ratio = 0.75;   // tracked points vs the reference keyframe's
+  int keyframe_min_close_tracked = 100;   // fewer tracked close points than this ...
+  int keyframe_min_close_untracked = 70;  // ... while this many close points are unmatched
+
+  // New map points at a keyframe: every close stereo point, and at least this many in total
+  // (nearest first, also far ones), as ORB-SLAM2.
+  int min_new_stereo_points = 100;
+  // Far stereo points (beyond close depth but below far_depth_baselines * baseline) are also
+  // turned into points when they are unmatched: they constrain rotation.
+  double far_depth_baselines = 80.0;
+
+  // Local BA window: the new keyframe and its best covisible keyframes (free), plus up to
+  // max_fixed_keyframes other observers of the window's points (fixed anchors).
+  int ba_window_keyframes = 10;
+  int ba_max_fixed_keyframes = 20;
+  // Map point culling: a recent point is removed when found / visible < this ratio, or when
+  // it has fewer than min_point_observations observers two keyframes after its creation.
+  double min_found_ratio = 0.25;
+  int min_point_observations = 2;  // ORB-SLAM2 stereo: <= 3 with stereo counting 2
+
+  // Deterministic: local BA in line on the tracking thread (bit-identical runs).
+  bool deterministic = false;
+  int num_threads = 2;  // threads for feature extraction and BA (>= 1)
+
+  // Throws OptionsError naming the field.
+  void Check() const;
+};
+
+struct SettingsFile {
+  TrackerOptions options;
+  std::vector<std::string> warnings;  // unknown keys, camera mismatches
+};
+
+// Reads a settings YAML on top of `defaults`. Throws InputError (file and key) listing every
+// mistyped or invalid key together. `camera` is the sequence's calibration, used to check the
+// file's `Camera.*` values (warnings only).
+SettingsFile LoadTrackerSettings(const std::filesystem::path& path, const TrackerOptions& defaults,
+                                 const std::optional<StereoCamera>& camera = std::nullopt);
+
+// The effective configuration as a settings YAML that LoadTrackerSettings reads back.
+std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamera& camera);
+void WriteTrackerSettings(const std::filesystem::path& path, const TrackerOptions& options,
+                          const StereoCamera& camera);
+
+}  // namespace planeloc

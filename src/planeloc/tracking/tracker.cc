@@ -1,0 +1,380 @@
+#include "planeloc/tracking/tracker.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "planeloc/optim/pose_optimizer.h"
+#include "planeloc/tracking/ba_worker.h"
+#include "planeloc/tracking/local_mapping.h"
+#include "planeloc/tracking/matcher.h"
+
+namespace planeloc {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MillisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+const char* TrackingStateName(TrackingState state) {
+  switch (state) {
+    case TrackingState::kTracking:
+      return "tracking";
+    case TrackingState::kLost:
+      return "lost";
+    case TrackingState::kRelocalized:
+      return "relocalized";
+  }
+  return "unknown";
+}
+
+std::string FrameStats::ToJson() const {
+  std::string json = fmt::format(
+      "{{\"frame\":{},\"state\":\"{}\",\"skipped\":{},\"features\":{},\"stereo_matches\":{},"
+      "\"tracked_points\":{},\"inliers\":{},\"keyframe\":{},\"ms\":{{\"extract\":{:.3f},"
+      "\"track\":{:.3f},\"local_map\":{:.3f},\"ba\":{:.3f}}}",
+      frame, TrackingStateName(state), skipped ? "true" : "false", features, stereo_matches,
+      tracked_points, inliers, keyframe ? "true" : "false", ms_extract, ms_track, ms_local_map,
+      ms_ba);
+  if (ba_median_reprojection_px) {
+    json += fmt::format(",\"ba_median_reprojection_px\":{:.4f}", *ba_median_reprojection_px);
+  }
+  return json + "}";
+}
+
+Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
+                 const Rigid3d& world_from_cam_initial)
+    : camera_(camera),
+      options_(options),
+      extractor_(options.orb),
+      map_(ScaleModel{options.orb.scale_factor, options.orb.num_levels}),
+      cam_from_world_initial_(world_from_cam_initial.Inverse()) {
+  options_.Check();
+  camera_.Check();
+  if (options_.deterministic) options_.ba.num_threads = 1;  // Ceres sums in thread order
+  if (!options_.deterministic) ba_worker_ = std::make_unique<BaWorker>(camera_, options_.ba);
+}
+
+Tracker::~Tracker() = default;
+
+TrackResult Tracker::Track(const cv::Mat& left, const cv::Mat& right, double timestamp) {
+  const auto start = Clock::now();
+  StereoFeatures features =
+      ExtractStereoFeatures(left, right, camera_, extractor_, options_.stereo);
+  return TrackFeatures(std::move(features), timestamp, MillisecondsSince(start));
+}
+
+Rigid3d Tracker::PredictPose() const {
+  if (!last_frame_) return cam_from_world_initial_;
+  return velocity_ ? *velocity_ * last_frame_->cam_from_world : last_frame_->cam_from_world;
+}
+
+TrackResult Tracker::SkipFrame(double timestamp) {
+  TrackResult result;
+  result.stats.frame = next_frame_id_++;
+  result.stats.skipped = true;
+  result.stats.state = last_frame_ ? TrackingState::kTracking : TrackingState::kLost;
+  const Rigid3d pose = PredictPose();
+  if (last_frame_) {
+    // The next frame predicts from this one: move the last frame along, without features.
+    last_frame_->cam_from_world = pose;
+    last_frame_->timestamp = timestamp;
+    if (map_.HasKeyframe(reference_keyframe_id_)) {
+      last_from_reference_ = pose * map_.keyframe(reference_keyframe_id_).cam_from_world.Inverse();
+    }
+  }
+  result.world_from_cam = pose.Inverse();
+  return result;
+}
+
+TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, double ms_extract) {
+  FrameStats stats;
+  stats.frame = next_frame_id_;
+  stats.ms_extract = ms_extract;
+  stats.features = static_cast<int>(features.left.keypoints.size());
+  stats.stereo_matches = features.num_stereo_matches();
+  Frame frame(next_frame_id_++, timestamp, std::move(features), camera_);
+
+  const auto track_start = Clock::now();
+  ApplyBaResults(stats, /*wait=*/false);
+  const Rigid3d predicted = PredictPose();
+  bool tracked = false;
+  if (last_frame_) {
+    tracked = TrackMotionModel(frame, predicted) || TrackReferenceKeyframe(frame, predicted);
+  }
+  stats.ms_track = MillisecondsSince(track_start);
+  if (tracked) {
+    const auto local_start = Clock::now();
+    tracked = TrackLocalMap(frame, stats);
+    stats.ms_local_map = MillisecondsSince(local_start);
+  }
+
+  bool make_keyframe = false;
+  if (tracked) {
+    stats.state = lost_before_ ? TrackingState::kRelocalized : TrackingState::kTracking;
+    lost_before_ = false;
+    velocity_ = frame.cam_from_world * last_frame_->cam_from_world.Inverse();
+    make_keyframe = NeedKeyframe(frame, stats.inliers);
+  } else {
+    // First frame, or loss: start (again) from this frame's stereo at the predicted pose.
+    stats.state = last_frame_ ? TrackingState::kLost : TrackingState::kTracking;
+    lost_before_ = last_frame_.has_value();
+    frame.cam_from_world = predicted;
+    std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
+    std::fill(frame.outlier.begin(), frame.outlier.end(), false);
+    make_keyframe = true;
+  }
+  if (make_keyframe) InsertKeyframe(frame, stats);
+
+  // Outliers are forgotten: the next frame searches only the confirmed matches.
+  for (int i = 0; i < frame.size(); ++i) {
+    if (frame.outlier[i]) frame.map_point_ids[i] = -1;
+    frame.outlier[i] = false;
+  }
+  stats.tracked_points = frame.NumTracked();
+  if (!tracked) stats.inliers = 0;
+  last_from_reference_ =
+      frame.cam_from_world * map_.keyframe(reference_keyframe_id_).cam_from_world.Inverse();
+  TrackResult result;
+  result.world_from_cam = frame.cam_from_world.Inverse();
+  result.stats = stats;
+  last_frame_ = std::move(frame);
+  return result;
+}
+
+bool Tracker::TrackMotionModel(Frame& frame, const Rigid3d& predicted) {
+  const Frame& last = *last_frame_;
+  MatchOptions match_options;
+  match_options.check_orientation = true;
+  std::vector<MatchSource> sources;
+  std::vector<ProjectionMatch> matches;
+  frame.cam_from_world = predicted;
+  for (double factor : {1.0, 2.0}) {
+    sources =
+        SourcesFromFrame(last, camera_, map_, predicted, factor * options_.motion_search_radius,
+                         options_.orb.scale_factor, CloseDepth());
+    matches = MatchByProjection(sources, frame, camera_, match_options);
+    if (static_cast<int>(matches.size()) >= options_.min_motion_matches) break;
+  }
+  if (static_cast<int>(matches.size()) < options_.min_motion_matches) return false;
+
+  // Pose from map points and the last frame's temporary stereo points together.
+  std::vector<PoseObservation> observations;
+  for (const ProjectionMatch& m : matches) {
+    const cv::KeyPoint& kp = frame.keypoint(m.keypoint);
+    observations.push_back({sources[m.source].point_in_world, kp.pt.x, kp.pt.y,
+                            frame.features.u_right[m.keypoint],
+                            extractor_.InverseLevelSigma2(kp.octave)});
+  }
+  const PoseOptimizerResult result = OptimizePose(camera_, predicted, observations, options_.pose);
+  if (result.num_inliers < 10) return false;
+  frame.cam_from_world = result.cam_from_world;
+  for (std::size_t k = 0; k < matches.size(); ++k) {
+    const int id = sources[matches[k].source].map_point_id;
+    if (id >= 0 && result.inlier[k]) frame.map_point_ids[matches[k].keypoint] = id;
+  }
+  return true;
+}
+
+bool Tracker::TrackReferenceKeyframe(Frame& frame, const Rigid3d& predicted) {
+  if (!map_.HasKeyframe(reference_keyframe_id_)) return false;
+  std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
+  const Keyframe& reference = map_.keyframe(reference_keyframe_id_);
+  MatchOptions match_options;
+  match_options.check_orientation = true;
+  match_options.ratio = 0.9;
+  // A wide window first around the prediction, then around the last pose (motion changed).
+  for (const auto& [radius, pose] :
+       {std::pair{25.0, predicted}, std::pair{60.0, last_frame_->cam_from_world}}) {
+    frame.cam_from_world = pose;
+    const std::vector<MatchSource> sources =
+        SourcesFromKeyframe(reference, map_, radius, options_.orb.scale_factor);
+    const std::vector<ProjectionMatch> matches =
+        MatchByProjection(sources, frame, camera_, match_options);
+    if (static_cast<int>(matches.size()) < 15) continue;
+    for (const ProjectionMatch& m : matches) {
+      frame.map_point_ids[m.keypoint] = sources[m.source].map_point_id;
+    }
+    std::fill(frame.outlier.begin(), frame.outlier.end(), false);
+    if (OptimizeFramePose(frame) >= 10) return true;
+    std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
+  }
+  return false;
+}
+
+int Tracker::OptimizeFramePose(Frame& frame) {
+  std::vector<PoseObservation> observations;
+  std::vector<int> keypoints;
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id < 0 || !map_.HasPoint(id)) {
+      frame.map_point_ids[i] = -1;
+      continue;
+    }
+    const cv::KeyPoint& kp = frame.keypoint(i);
+    observations.push_back({map_.point(id).point_in_world, kp.pt.x, kp.pt.y,
+                            frame.features.u_right[i], extractor_.InverseLevelSigma2(kp.octave)});
+    keypoints.push_back(i);
+  }
+  if (observations.size() < 3) return 0;
+  const PoseOptimizerResult result =
+      OptimizePose(camera_, frame.cam_from_world, observations, options_.pose);
+  frame.cam_from_world = result.cam_from_world;
+  for (std::size_t k = 0; k < keypoints.size(); ++k)
+    frame.outlier[keypoints[k]] = !result.inlier[k];
+  return result.num_inliers;
+}
+
+std::vector<int> Tracker::LocalPointIds(const Frame& frame) {
+  // Keyframes sharing points with the frame, by shared count, then their covisible neighbours.
+  std::map<int, int> counts;
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id < 0 || frame.outlier[i] || !map_.HasPoint(id)) continue;
+    for (const auto& [kf_id, keypoint] : map_.point(id).observations) ++counts[kf_id];
+  }
+  std::vector<std::pair<int, int>> ranked;  // (-count, id)
+  for (const auto& [kf_id, count] : counts) ranked.emplace_back(-count, kf_id);
+  std::sort(ranked.begin(), ranked.end());
+  if (!ranked.empty()) reference_keyframe_id_ = ranked.front().second;
+  std::set<int> local;
+  for (const auto& [neg, kf_id] : ranked) {
+    if (static_cast<int>(local.size()) >= options_.max_local_keyframes) break;
+    local.insert(kf_id);
+  }
+  for (const auto& [neg, kf_id] : ranked) {
+    if (static_cast<int>(local.size()) >= options_.max_local_keyframes) break;
+    for (int neighbour : map_.BestCovisible(kf_id, 10)) local.insert(neighbour);
+  }
+  if (map_.HasKeyframe(reference_keyframe_id_)) local.insert(reference_keyframe_id_);
+  std::set<int> point_ids;
+  for (int kf_id : local) {
+    for (int id : map_.keyframe(kf_id).map_point_ids) {
+      if (id >= 0) point_ids.insert(id);
+    }
+  }
+  for (int id : frame.map_point_ids) {
+    if (id >= 0) point_ids.erase(id);
+  }
+  return {point_ids.begin(), point_ids.end()};
+}
+
+bool Tracker::TrackLocalMap(Frame& frame, FrameStats& stats) {
+  // Points already matched count as seen in this frame.
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id >= 0 && map_.HasPoint(id)) ++map_.mutable_point(id).visible;
+  }
+  const std::vector<int> local_ids = LocalPointIds(frame);
+  std::vector<int> visible;
+  const std::vector<MatchSource> sources =
+      SourcesFromLocalMap(local_ids, map_, frame, camera_, options_.local_search_radius, &visible);
+  for (int id : visible) ++map_.mutable_point(id).visible;
+  MatchOptions match_options;
+  match_options.ratio = 0.8;
+  for (const ProjectionMatch& m : MatchByProjection(sources, frame, camera_, match_options)) {
+    frame.map_point_ids[m.keypoint] = sources[m.source].map_point_id;
+  }
+  std::fill(frame.outlier.begin(), frame.outlier.end(), false);
+  const int inliers = OptimizeFramePose(frame);
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id >= 0 && !frame.outlier[i]) ++map_.mutable_point(id).found;
+  }
+  stats.inliers = inliers;
+  return inliers >= options_.min_tracked_inliers;
+}
+
+bool Tracker::NeedKeyframe(const Frame& frame, int inliers) const {
+  const int num_keyframes = static_cast<int>(map_.keyframes().size());
+  const int min_observations = num_keyframes <= 2 ? 2 : 3;
+  const int reference_matches =
+      map_.HasKeyframe(reference_keyframe_id_)
+          ? map_.NumTrackedPoints(reference_keyframe_id_, min_observations)
+          : 0;
+  int tracked_close = 0, untracked_close = 0;
+  for (int i = 0; i < frame.size(); ++i) {
+    const float depth = frame.features.depth[i];
+    if (depth <= 0 || depth >= CloseDepth()) continue;
+    if (frame.map_point_ids[i] >= 0 && !frame.outlier[i]) {
+      ++tracked_close;
+    } else {
+      ++untracked_close;
+    }
+  }
+  const bool need_close = tracked_close < options_.keyframe_min_close_tracked &&
+                          untracked_close > options_.keyframe_min_close_untracked;
+  const int since_last = frame.id - last_keyframe_frame_id_;
+  const bool timeout = since_last >= static_cast<int>(std::lround(options_.fps));
+  const bool weak = inliers < 0.25 * reference_matches || need_close;
+  // ORB-SLAM2 also inserts when local mapping is idle; mapping is synchronous here.
+  const bool mapping_idle = true;
+  const bool c1 = timeout || mapping_idle || weak;
+  const bool c2 =
+      (inliers < options_.keyframe_tracked_ratio * reference_matches || need_close) && inliers > 15;
+  return c1 && c2;
+}
+
+void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
+  const auto start = Clock::now();
+  stats.keyframe = true;
+  const int kf_id = map_.AddKeyframe(frame);
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id < 0 || frame.outlier[i] || !map_.HasPoint(id)) continue;
+    map_.AddObservation(id, kf_id, i);
+    map_.UpdatePoint(id);
+  }
+  const std::vector<int> created = CreateStereoPoints(map_, kf_id, camera_, options_);
+  recent_point_ids_.insert(recent_point_ids_.end(), created.begin(), created.end());
+  CullRecentPoints(map_, recent_point_ids_, kf_id, options_);
+  map_.UpdateConnections(kf_id);
+  // The frame now observes what the keyframe observes (new points included).
+  frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
+  std::fill(frame.outlier.begin(), frame.outlier.end(), false);
+  reference_keyframe_id_ = kf_id;
+  last_keyframe_frame_id_ = frame.id;
+  stats.ms_local_map += MillisecondsSince(start);
+
+  const auto ba_start = Clock::now();
+  BaJob job;
+  job.keyframe_id = kf_id;
+  job.problem = BuildLocalWindow(map_, kf_id, options_);
+  if (ba_worker_) {
+    ba_worker_->Submit(std::move(job));
+  } else {
+    SolveBaJob(camera_, options_.ba, job);
+    const BaApplyStats applied = ApplyWindowBa(map_, job.problem, job.result, camera_);
+    if (job.result.usable) stats.ba_median_reprojection_px = applied.median_reprojection_px;
+    frame.cam_from_world = map_.keyframe(kf_id).cam_from_world;
+    frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
+  }
+  stats.ms_ba = MillisecondsSince(ba_start);
+}
+
+void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
+  if (!ba_worker_) return;
+  std::optional<BaJob> job = wait ? ba_worker_->WaitResult() : ba_worker_->TakeResult();
+  if (!job || !job->result.usable) return;
+  const BaApplyStats applied = ApplyWindowBa(map_, job->problem, job->result, camera_);
+  stats.ba_median_reprojection_px = applied.median_reprojection_px;
+  if (last_frame_ && map_.HasKeyframe(reference_keyframe_id_)) {
+    last_frame_->cam_from_world =
+        last_from_reference_ * map_.keyframe(reference_keyframe_id_).cam_from_world;
+  }
+}
+
+void Tracker::Finish() {
+  FrameStats ignored;
+  ApplyBaResults(ignored, /*wait=*/true);
+}
+
+}  // namespace planeloc

@@ -1,0 +1,112 @@
+// Stereo visual odometry of the ORB-SLAM2 class with loop closing off.
+//
+// Per frame: ORB + stereo features -> constant-velocity prediction and guided search against
+// the previous frame (fallback: the reference keyframe with a wider window) -> pose-only
+// optimization -> local-map search over covisible keyframes -> pose-only optimization ->
+// keyframe decision -> (keyframe) new stereo points, point culling, local window BA.
+// On loss the tracker re-initializes from the frame's stereo at the predicted pose and goes on.
+//
+// Threads: feature extraction uses TBB inside features/; the local BA runs on a BaWorker
+// thread, or in line when options.deterministic (bit-identical runs).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "planeloc/features/orb_extractor.h"
+#include "planeloc/geometry/camera.h"
+#include "planeloc/geometry/rigid3.h"
+#include "planeloc/tracking/frame.h"
+#include "planeloc/tracking/map.h"
+#include "planeloc/tracking/settings.h"
+
+namespace planeloc {
+
+class BaWorker;
+
+enum class TrackingState {
+  kTracking,     // tracked against the map
+  kLost,         // not tracked: pose from the motion model, map re-initialized from stereo
+  kRelocalized,  // first tracked frame after a loss (against the re-initialized map)
+};
+const char* TrackingStateName(TrackingState state);
+
+struct FrameStats {
+  int frame = 0;
+  TrackingState state = TrackingState::kTracking;
+  bool skipped = false;  // images missing: motion-model pose only
+  int features = 0;
+  int stereo_matches = 0;
+  int tracked_points = 0;  // map points matched in the frame (inliers of the final optimization)
+  int inliers = 0;         // inliers of the final pose optimization
+  bool keyframe = false;
+  double ms_extract = 0, ms_track = 0, ms_local_map = 0, ms_ba = 0;
+  // Median stereo reprojection error (pixels) after the last applied local BA, when one was
+  // applied during this frame.
+  std::optional<double> ba_median_reprojection_px;
+  // One JSON object on one line (the --stats format).
+  std::string ToJson() const;
+};
+
+struct TrackResult {
+  Rigid3d world_from_cam;  // in the frame of the initial pose
+  FrameStats stats;
+};
+
+class Tracker {
+ public:
+  // `world_from_cam_initial`: pose of the first frame; the trajectory is expressed in its frame.
+  Tracker(const StereoCamera& camera, const TrackerOptions& options,
+          const Rigid3d& world_from_cam_initial = Rigid3d::Identity());
+  ~Tracker();
+  Tracker(const Tracker&) = delete;
+  Tracker& operator=(const Tracker&) = delete;
+
+  // Extracts features from a rectified grey pair and tracks them.
+  TrackResult Track(const cv::Mat& left, const cv::Mat& right, double timestamp);
+  // Tracks already extracted features (`ms_extract` is reported in the stats).
+  TrackResult TrackFeatures(StereoFeatures features, double timestamp, double ms_extract = 0);
+  // A frame without images: the motion model's pose, no map change.
+  TrackResult SkipFrame(double timestamp);
+  // Waits for a running BA and applies it (call at the end of a sequence).
+  void Finish();
+
+  const SparseMap& map() const { return map_; }
+  const OrbExtractor& extractor() const { return extractor_; }
+  const TrackerOptions& options() const { return options_; }
+
+ private:
+  bool TrackMotionModel(Frame& frame, const Rigid3d& predicted);
+  bool TrackReferenceKeyframe(Frame& frame, const Rigid3d& predicted);
+  bool TrackLocalMap(Frame& frame, FrameStats& stats);
+  // Pose optimization over the frame's map points; sets outlier flags, returns inliers.
+  int OptimizeFramePose(Frame& frame);
+  std::vector<int> LocalPointIds(const Frame& frame);
+  bool NeedKeyframe(const Frame& frame, int inliers) const;
+  // Inserts the keyframe and runs the mapping steps; fills ms_ba / reprojection stats.
+  void InsertKeyframe(Frame& frame, FrameStats& stats);
+  void ApplyBaResults(FrameStats& stats, bool wait);
+  Rigid3d PredictPose() const;
+  double CloseDepth() const { return options_.close_depth_baselines * camera_.baseline; }
+
+  StereoCamera camera_;
+  TrackerOptions options_;
+  OrbExtractor extractor_;
+  SparseMap map_;
+  std::unique_ptr<BaWorker> ba_worker_;
+  Rigid3d cam_from_world_initial_;
+
+  int next_frame_id_ = 0;
+  std::optional<Frame> last_frame_;
+  // last frame relative to its reference keyframe: re-anchors it when BA moves the keyframe
+  Rigid3d last_from_reference_;
+  std::optional<Rigid3d> velocity_;  // current_from_last of the last tracked step
+  int reference_keyframe_id_ = -1;
+  int last_keyframe_frame_id_ = 0;
+  std::vector<int> recent_point_ids_;
+  bool lost_before_ = false;
+};
+
+}  // namespace planeloc
