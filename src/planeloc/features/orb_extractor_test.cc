@@ -173,6 +173,19 @@ TEST(OrbExtractor, RejectsNonGreyImages) {
   EXPECT_THROW(extractor.Extract(cv::Mat(100, 100, CV_8UC3)), std::invalid_argument);
 }
 
+TEST(OrbExtractor, HandlesSmallAndFlatImages) {
+  const OrbExtractor extractor{OrbOptions()};
+  // Coarse levels of a small image are smaller than the border: they simply yield nothing.
+  const ImageFeatures small = extractor.Extract(testing::RandomTexture(cv::Size(120, 90), 6));
+  EXPECT_GT(small.keypoints.size(), 50u);
+  EXPECT_EQ(small.descriptors.rows, static_cast<int>(small.keypoints.size()));
+  EXPECT_EQ(small.pyramid.size(), 8u);
+  EXPECT_TRUE(extractor.Extract(cv::Mat(20, 20, CV_8U, cv::Scalar(0))).keypoints.empty());
+  const ImageFeatures flat = extractor.Extract(cv::Mat(370, 1226, CV_8U, cv::Scalar(128)));
+  EXPECT_TRUE(flat.keypoints.empty());
+  EXPECT_EQ(flat.descriptors.rows, 0);
+}
+
 TEST(DescriptorDistance, CountsDifferingBits) {
   cv::Mat a = cv::Mat::zeros(1, 32, CV_8U), b = cv::Mat::zeros(1, 32, CV_8U);
   EXPECT_EQ(DescriptorDistance(a, b), 0);

@@ -155,6 +155,20 @@ TEST(StereoMatcher, RespectsMinimumDepth) {
   }
 }
 
+TEST(StereoMatcher, NoFeaturesNoMatches) {
+  const StereoCamera camera = KittiLikeCamera();
+  const cv::Mat flat(camera.height, camera.width, CV_8U, cv::Scalar(100));
+  const cv::Mat textured = testing::RandomTexture(flat.size(), 12);
+  const OrbExtractor extractor{OrbOptions()};
+  const StereoFeatures none =
+      ExtractStereoFeatures(textured, flat, camera, extractor, StereoMatchOptions());
+  EXPECT_GT(none.left.keypoints.size(), 1000u);
+  EXPECT_EQ(none.num_right_keypoints, 0);
+  EXPECT_EQ(none.num_stereo_matches(), 0);
+  ASSERT_EQ(none.u_right.size(), none.left.keypoints.size());
+  for (float u : none.u_right) EXPECT_EQ(u, -1.0f);
+}
+
 TEST(StereoMatcher, RealKittiPair) {
   PLANELOC_SHARED_DATA_OR_SKIP(dir, "kitti-raw-2011_09_26_drive_0001");
   const cv::Mat left =
