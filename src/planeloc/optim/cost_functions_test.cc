@@ -78,6 +78,9 @@ TEST(CostFunctions, ZeroAtTruth) {
   const MonoPoseOnlyError mono_pose(k, pixel.head<2>(), x, 2.0);
   EXPECT_LT(EvaluateResidual(*stereo, full).norm(), 1e-9);
   EXPECT_LT(EvaluateResidual(*mono, full).norm(), 1e-9);
+  EXPECT_LT(EvaluateResidual(StereoReprojectionAnalytic(k, pixel, 2.0), full).norm(), 1e-9);
+  EXPECT_LT(EvaluateResidual(MonoReprojectionAnalytic(k, pixel.head<2>(), 2.0), full).norm(), 1e-9);
+  EXPECT_LT(EvaluateResidual(MonoReprojectionPadded(k, pixel.head<2>(), 2.0), full).norm(), 1e-9);
   EXPECT_LT(EvaluateResidual(stereo_pose, pose_only).norm(), 1e-9);
   EXPECT_LT(EvaluateResidual(mono_pose, pose_only).norm(), 1e-9);
 
@@ -107,6 +110,20 @@ TEST(CostFunctions, HandComputedValues) {
   EXPECT_LT((EvaluateResidual(*mono, {params.q, params.t, x.data()}) - expected.head<2>()).norm(),
             1e-9);
   EXPECT_LT((EvaluateResidual(stereo_pose, {params.q, params.t}) - expected).norm(), 1e-9);
+  const std::vector<const double*> full = {params.q, params.t, x.data()};
+  EXPECT_LT(
+      (EvaluateResidual(StereoReprojectionAnalytic(k, observed, information), full) - expected)
+          .norm(),
+      1e-9);
+  EXPECT_LT((EvaluateResidual(MonoReprojectionAnalytic(k, observed.head<2>(), information), full) -
+             expected.head<2>())
+                .norm(),
+            1e-9);
+  // The padded mono residual has the same two rows and an identically zero third.
+  EXPECT_LT((EvaluateResidual(MonoReprojectionPadded(k, observed.head<2>(), information), full) -
+             Eigen::Vector3d(4, -6, 0))
+                .norm(),
+            1e-9);
   EXPECT_LT((EvaluateResidual(mono_pose, {params.q, params.t}) - expected.head<2>()).norm(), 1e-9);
 
   // Plane 2 z - 4 = 0 (normalized to z = 2), point at z = 2.5, sigma 0.1 m: r = 0.5 / 0.1 = 5.
@@ -164,7 +181,15 @@ TEST(CostFunctions, JacobiansMatchNumericDifferentiation) {
     ExpectGradientsMatch(stereo_pose, {&quaternion, nullptr}, {params.q, params.t});
     ExpectGradientsMatch(mono_pose, {&quaternion, nullptr}, {params.q, params.t});
 
-    // The analytic pose-only Jacobian equals the automatic one in ambient coordinates.
+    const StereoReprojectionAnalytic stereo_analytic(k, observed, 0.7);
+    const MonoReprojectionAnalytic mono_analytic(k, observed.head<2>(), 0.7);
+    const MonoReprojectionPadded mono_padded(k, observed.head<2>(), 0.7);
+    for (const ceres::CostFunction* cost :
+         std::vector<const ceres::CostFunction*>{&stereo_analytic, &mono_analytic, &mono_padded}) {
+      ExpectGradientsMatch(*cost, {&quaternion, nullptr, nullptr}, {params.q, params.t, x.data()});
+    }
+
+    // The analytic Jacobians equal the automatic ones in ambient coordinates.
     double r_auto[3], r_analytic[3], jq_auto[12], jt_auto[9], jx_auto[9], jq[12], jt[9];
     double* j_auto[3] = {jq_auto, jt_auto, jx_auto};
     double* j_analytic[2] = {jq, jt};
@@ -174,6 +199,12 @@ TEST(CostFunctions, JacobiansMatchNumericDifferentiation) {
     ASSERT_TRUE(stereo_pose.Evaluate(pose_only, r_analytic, j_analytic));
     for (int i = 0; i < 12; ++i) EXPECT_NEAR(jq[i], jq_auto[i], 1e-9 * (1 + std::abs(jq[i])));
     for (int i = 0; i < 9; ++i) EXPECT_NEAR(jt[i], jt_auto[i], 1e-9 * (1 + std::abs(jt[i])));
+    double jx[9];
+    double* j_full[3] = {jq, jt, jx};
+    ASSERT_TRUE(stereo_analytic.Evaluate(full, r_analytic, j_full));
+    for (int i = 0; i < 12; ++i) EXPECT_NEAR(jq[i], jq_auto[i], 1e-9 * (1 + std::abs(jq[i])));
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(jt[i], jt_auto[i], 1e-9 * (1 + std::abs(jt[i])));
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(jx[i], jx_auto[i], 1e-9 * (1 + std::abs(jx[i])));
 
     const Plane plane(Eigen::Vector3d(noise(rng), noise(rng), noise(rng)), noise(rng));
     std::unique_ptr<ceres::CostFunction> to_plane(PointToPlaneError::Create(plane, 0.05));
@@ -233,6 +264,18 @@ TEST(CostFunctions, TinySolvesRecoverPose) {
                   return new StereoPoseOnlyError(k, px, x, 1.0);
                 },
                 false),
+            1e-6);
+  EXPECT_LT(RecoveredPoseErrorM(
+                [](const K& k, const Eigen::Vector3d& px, const Eigen::Vector3d&) {
+                  return new StereoReprojectionAnalytic(k, px, 1.0);
+                },
+                true),
+            1e-6);
+  EXPECT_LT(RecoveredPoseErrorM(
+                [](const K& k, const Eigen::Vector3d& px, const Eigen::Vector3d&) {
+                  return new MonoReprojectionPadded(k, px.head<2>(), 1.0);
+                },
+                true),
             1e-6);
   EXPECT_LT(RecoveredPoseErrorM(
                 [](const K& k, const Eigen::Vector3d& px, const Eigen::Vector3d& x) {

@@ -11,47 +11,6 @@
 namespace planeloc {
 namespace {
 
-struct PoseScene {
-  StereoCamera camera = test::KittiLikeCamera();
-  Rigid3d cam_from_world_true;
-  std::vector<PoseObservation> observations;
-  std::vector<bool> is_outlier;
-};
-
-// `num` points seen by a camera at a known pose, 1 px Gaussian noise, a fraction of gross
-// outliers (20-60 px off), stereo for points closer than 40 baselines, mono beyond.
-PoseScene MakePoseScene(int num, double outlier_fraction, unsigned seed) {
-  PoseScene s;
-  std::mt19937 rng(seed);
-  s.cam_from_world_true =
-      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY())),
-              Eigen::Vector3d(0.5, -0.2, -3.0));
-  const Rigid3d world_from_cam = s.cam_from_world_true.Inverse();
-  std::uniform_real_distribution<double> uu(0, s.camera.width - 1), uv(0, s.camera.height - 1);
-  std::uniform_real_distribution<double> depth(3.0, 60.0), unit(0.0, 1.0), sign(-1.0, 1.0);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  while (static_cast<int>(s.observations.size()) < num) {
-    const Eigen::Vector3d point_in_cam =
-        s.camera.Unproject(Eigen::Vector2d(uu(rng), uv(rng)), depth(rng));
-    const Eigen::Vector3d stereo = *s.camera.ProjectStereo(point_in_cam);
-    PoseObservation o;
-    o.point_in_world = world_from_cam * point_in_cam;
-    o.u_left = stereo.x() + noise(rng);
-    o.v = stereo.y() + noise(rng);
-    const bool close = point_in_cam.z() < 40 * s.camera.baseline;
-    o.u_right = close ? stereo.z() + noise(rng) : -1.0;
-    const bool outlier = unit(rng) < outlier_fraction;
-    if (outlier) {
-      o.u_left += (sign(rng) > 0 ? 1 : -1) * (20 + 40 * unit(rng));
-      o.v += (sign(rng) > 0 ? 1 : -1) * (20 + 40 * unit(rng));
-      if (close) o.u_right = o.u_left - (stereo.x() - stereo.z());
-    }
-    s.observations.push_back(o);
-    s.is_outlier.push_back(outlier);
-  }
-  return s;
-}
-
 double TranslationErrorM(const Rigid3d& a, const Rigid3d& b) {
   return (a.Inverse().translation - b.Inverse().translation).norm();  // camera centres
 }
@@ -60,7 +19,7 @@ double RotationErrorDeg(const Rigid3d& a, const Rigid3d& b) {
 }
 
 TEST(OptimizePose, RecoversPoseAndFlagsOutliers) {
-  const PoseScene s = MakePoseScene(1000, 0.2, 11);
+  const test::PoseScene s = test::MakePoseScene(1000, 0.2, 11);
   std::mt19937 rng(5);
   const Rigid3d initial = test::Perturb(s.cam_from_world_true, 0.02, 0.2, rng);
   ASSERT_GT(TranslationErrorM(initial, s.cam_from_world_true), 0.1);
@@ -87,7 +46,7 @@ TEST(OptimizePose, RecoversPoseAndFlagsOutliers) {
 }
 
 TEST(OptimizePose, MonocularObservationsOnly) {
-  PoseScene s = MakePoseScene(300, 0.0, 12);
+  test::PoseScene s = test::MakePoseScene(300, 0.0, 12);
   for (PoseObservation& o : s.observations) o.u_right = -1;
   std::mt19937 rng(6);
   const Rigid3d initial = test::Perturb(s.cam_from_world_true, 0.01, 0.1, rng);
@@ -99,7 +58,7 @@ TEST(OptimizePose, MonocularObservationsOnly) {
 }
 
 TEST(OptimizePose, DeterministicBitForBit) {
-  const PoseScene s = MakePoseScene(500, 0.2, 13);
+  const test::PoseScene s = test::MakePoseScene(500, 0.2, 13);
   std::mt19937 rng(7);
   const Rigid3d initial = test::Perturb(s.cam_from_world_true, 0.02, 0.2, rng);
   const PoseOptimizerResult a = OptimizePose(s.camera, initial, s.observations);
@@ -110,7 +69,7 @@ TEST(OptimizePose, DeterministicBitForBit) {
 }
 
 TEST(OptimizePose, TooFewObservationsKeepsInitialPose) {
-  const PoseScene s = MakePoseScene(5, 0.0, 14);
+  const test::PoseScene s = test::MakePoseScene(5, 0.0, 14);
   std::mt19937 rng(8);
   const Rigid3d initial = test::Perturb(s.cam_from_world_true, 0.01, 0.1, rng);
   const PoseOptimizerResult r = OptimizePose(s.camera, initial, s.observations);
@@ -119,7 +78,7 @@ TEST(OptimizePose, TooFewObservationsKeepsInitialPose) {
 }
 
 TEST(OptimizePose, PointsBehindCameraAreOutliers) {
-  PoseScene s = MakePoseScene(200, 0.0, 15);
+  test::PoseScene s = test::MakePoseScene(200, 0.0, 15);
   // Mirror one point behind the camera.
   const Rigid3d world_from_cam = s.cam_from_world_true.Inverse();
   Eigen::Vector3d p = s.cam_from_world_true * s.observations[0].point_in_world;

@@ -62,6 +62,9 @@ struct WindowBaOptions {
   double chi2_stereo = 7.815;  // 95 % for 3 DoF
   int iterations = 10;         // per round; two rounds with outlier removal between
   int num_threads = 1;         // Ceres threads; results may differ in the last bits for > 1
+  // Windows with at most this many free keyframes factor the reduced camera system densely
+  // (ceres::DENSE_SCHUR, measured faster there); larger ones use ceres::SPARSE_SCHUR.
+  int dense_schur_max_keyframes = 40;
   void Check() const;
 };
 

@@ -13,86 +13,9 @@
 namespace planeloc {
 namespace {
 
-// Ground truth and a perturbed BA problem of a camera driving along a road between two walls.
-struct BaScene {
-  StereoCamera camera = test::KittiLikeCamera();
-  std::vector<Rigid3d> cam_from_world_true;  // by keyframe id = index
-  std::vector<Eigen::Vector3d> point_true;   // by point id = index
-  WindowProblem problem;                     // perturbed initial values
-};
-
-struct SceneConfig {
-  int keyframes = 8;
-  double spacing = 1.5;        // metres between keyframes along z
-  int points_per_plane = 150;  // on each of the 3 planes
-  int off_plane_points = 150;
-  double pixel_noise = 1.0;
-  double pose_rot_sigma = 0.005, pose_trans_sigma = 0.1;  // initial pose perturbation
-  double point_sigma = 0.3;                               // metres, initial point perturbation
-  double scale = 1.0;  // initial trajectory/structure scaled about keyframe 0 (drift)
-  bool mono_only = false;
-  unsigned seed = 1;
-};
-
-BaScene MakeScene(const SceneConfig& c) {
-  BaScene s;
-  std::mt19937 rng(c.seed);
-  std::normal_distribution<double> noise(0.0, c.pixel_noise), point_noise(0.0, c.point_sigma);
-  for (int k = 0; k < c.keyframes; ++k) {
-    const Eigen::Quaterniond yaw(Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d::UnitY()));
-    const Eigen::Vector3d centre(0.1 * std::sin(k), 0.0, c.spacing * k);
-    s.cam_from_world_true.push_back(Rigid3d(yaw, centre).Inverse());
-  }
-  const double z_max = c.spacing * c.keyframes + 35.0;
-  for (int plane = 0; plane < 4; ++plane) {
-    const int count = plane < 3 ? c.points_per_plane : c.off_plane_points;
-    for (int i = 0; i < count; ++i) {
-      s.point_true.push_back(test::RandomScenePoint(rng, plane < 3 ? plane : -1, 4.0, z_max));
-      WindowPoint p;
-      p.id = static_cast<int>(s.point_true.size()) - 1;
-      if (plane < 3) p.plane_id = plane;
-      s.problem.points.push_back(p);
-    }
-  }
-  const std::vector<Plane> planes = test::ScenePlanes();
-  for (int i = 0; i < 3; ++i) s.problem.planes.push_back({i, planes[i]});
-
-  // Initial values: scale drift about keyframe 0's centre, then random perturbations.
-  const Eigen::Vector3d origin = s.cam_from_world_true[0].Inverse().translation;
-  for (int k = 0; k < c.keyframes; ++k) {
-    const Rigid3d world_from_cam = s.cam_from_world_true[k].Inverse();
-    Rigid3d scaled(world_from_cam.rotation,
-                   origin + c.scale * (world_from_cam.translation - origin));
-    Rigid3d initial = scaled.Inverse();
-    if (k > 0) initial = test::Perturb(initial, c.pose_rot_sigma, c.pose_trans_sigma, rng);
-    s.problem.keyframes.push_back({k, initial, k == 0});
-  }
-  for (WindowPoint& p : s.problem.points) {
-    p.point_in_world = origin + c.scale * (s.point_true[p.id] - origin) +
-                       Eigen::Vector3d(point_noise(rng), point_noise(rng), point_noise(rng));
-  }
-  for (int k = 0; k < c.keyframes; ++k) {
-    for (size_t j = 0; j < s.point_true.size(); ++j) {
-      const Eigen::Vector3d x = s.cam_from_world_true[k] * s.point_true[j];
-      if (x.z() < 2.0 || x.z() > 45.0) continue;
-      const Eigen::Vector3d uvu = *s.camera.ProjectStereo(x);
-      if (!s.camera.InImage(uvu.head<2>())) continue;
-      WindowObservation o;
-      o.keyframe_id = k;
-      o.point_id = static_cast<int>(j);
-      o.u_left = uvu.x() + noise(rng);
-      o.v = uvu.y() + noise(rng);
-      const bool stereo = !c.mono_only && x.z() < 40 * s.camera.baseline;
-      o.u_right = stereo ? uvu.z() + noise(rng) : -1.0;
-      s.problem.observations.push_back(o);
-    }
-  }
-  return s;
-}
-
 // Median error of the points (optionally only those on a plane): far monocular points have
 // metre-level depth uncertainty, which would dominate a mean.
-double MedianPointError(const BaScene& s, const std::map<int, Eigen::Vector3d>& points,
+double MedianPointError(const test::WindowScene& s, const std::map<int, Eigen::Vector3d>& points,
                         bool planar_only) {
   std::vector<double> errors;
   for (const WindowPoint& p : s.problem.points) {
@@ -103,14 +26,14 @@ double MedianPointError(const BaScene& s, const std::map<int, Eigen::Vector3d>& 
   return errors[errors.size() / 2];
 }
 
-double MedianInitialPointError(const BaScene& s, bool planar_only) {
+double MedianInitialPointError(const test::WindowScene& s, bool planar_only) {
   std::map<int, Eigen::Vector3d> points;
   for (const WindowPoint& p : s.problem.points) points[p.id] = p.point_in_world;
   return MedianPointError(s, points, planar_only);
 }
 
 // Mean camera-centre error of the free keyframes.
-double MeanPoseError(const BaScene& s, const std::map<int, Rigid3d>& poses) {
+double MeanPoseError(const test::WindowScene& s, const std::map<int, Rigid3d>& poses) {
   double sum = 0;
   for (const auto& [id, pose] : poses) {
     sum += (pose.Inverse().translation - s.cam_from_world_true[id].Inverse().translation).norm();
@@ -118,7 +41,7 @@ double MeanPoseError(const BaScene& s, const std::map<int, Rigid3d>& poses) {
   return sum / poses.size();
 }
 
-double MeanInitialPoseError(const BaScene& s) {
+double MeanInitialPoseError(const test::WindowScene& s) {
   std::map<int, Rigid3d> poses;
   for (const WindowKeyframe& kf : s.problem.keyframes) {
     if (!kf.fixed) poses[kf.id] = kf.cam_from_world;
@@ -127,7 +50,7 @@ double MeanInitialPoseError(const BaScene& s) {
 }
 
 // Distance of the last keyframe's centre from keyframe 0's, over the true one: the window scale.
-double WindowScale(const BaScene& s, const std::map<int, Rigid3d>& poses) {
+double WindowScale(const test::WindowScene& s, const std::map<int, Rigid3d>& poses) {
   const int last = static_cast<int>(s.cam_from_world_true.size()) - 1;
   const Eigen::Vector3d c0 = s.cam_from_world_true[0].Inverse().translation;
   return (poses.at(last).Inverse().translation - c0).norm() /
@@ -135,7 +58,7 @@ double WindowScale(const BaScene& s, const std::map<int, Rigid3d>& poses) {
 }
 
 TEST(SolveWindowBa, ReducesPoseAndPointError) {
-  const BaScene s = MakeScene({});
+  const test::WindowScene s = test::MakeWindowScene({});
   ASSERT_GT(s.problem.observations.size(), 1500u);
   const WindowBaResult r = SolveWindowBa(s.camera, s.problem, {});
   ASSERT_TRUE(r.usable);
@@ -156,7 +79,7 @@ TEST(SolveWindowBa, ReducesPoseAndPointError) {
 }
 
 TEST(SolveWindowBa, FlagsGrossOutliers) {
-  BaScene s = MakeScene({.point_sigma = 0.1, .seed = 2});
+  test::WindowScene s = test::MakeWindowScene({.point_sigma = 0.1, .seed = 2});
   std::map<int, int> num_observations;
   for (const WindowObservation& o : s.problem.observations) ++num_observations[o.point_id];
   // Corrupt one observation of every third point seen at least 3 times (a point seen once or
@@ -183,7 +106,7 @@ TEST(SolveWindowBa, FlagsGrossOutliers) {
 }
 
 TEST(SolveWindowBa, PlaneConstraintsImprovePlanarPoints) {
-  const BaScene s = MakeScene({.seed = 3});
+  const test::WindowScene s = test::MakeWindowScene({.seed = 3});
   const WindowBaResult visual = SolveWindowBa(s.camera, s.problem, {});
   WindowBaOptions with_planes;
   with_planes.lambda = 0.5;
@@ -201,8 +124,8 @@ TEST(SolveWindowBa, PlaneConstraintsImprovePlanarPoints) {
 // Monocular-only window: the scale is a gauge freedom of the reprojection error, so a drifted
 // scale stays drifted with lambda = 1; the metric LiDAR planes pull it back.
 TEST(SolveWindowBa, PlanesRecoverScaleDriftMonocular) {
-  const BaScene s =
-      MakeScene({.pose_trans_sigma = 0.02, .scale = 1.1, .mono_only = true, .seed = 4});
+  const test::WindowScene s =
+      test::MakeWindowScene({.pose_trans_sigma = 0.02, .scale = 1.1, .mono_only = true, .seed = 4});
   const WindowBaResult visual = SolveWindowBa(s.camera, s.problem, {});
   WindowBaOptions with_planes;
   with_planes.lambda = 0.5;
@@ -218,7 +141,8 @@ TEST(SolveWindowBa, PlanesRecoverScaleDriftMonocular) {
 // Stereo window with 10 % scale drift: stereo alone observes scale only weakly at these depths;
 // the planes must give a measurably better window scale and pose error.
 TEST(SolveWindowBa, PlanesReduceScaleDriftStereo) {
-  const BaScene s = MakeScene({.pose_trans_sigma = 0.02, .scale = 1.1, .seed = 5});
+  const test::WindowScene s =
+      test::MakeWindowScene({.pose_trans_sigma = 0.02, .scale = 1.1, .seed = 5});
   const WindowBaResult visual = SolveWindowBa(s.camera, s.problem, {});
   WindowBaOptions with_planes;
   with_planes.lambda = 0.5;
@@ -233,7 +157,7 @@ TEST(SolveWindowBa, PlanesReduceScaleDriftStereo) {
 }
 
 TEST(SolveWindowBa, AllKeyframesFreeIsStillUsable) {
-  BaScene s = MakeScene({.seed = 6});
+  test::WindowScene s = test::MakeWindowScene({.seed = 6});
   for (WindowKeyframe& kf : s.problem.keyframes) kf.fixed = false;
   const WindowBaResult r = SolveWindowBa(s.camera, s.problem, {});
   // The gauge is unobserved, but Levenberg-Marquardt's damping keeps the system solvable.
@@ -242,8 +166,22 @@ TEST(SolveWindowBa, AllKeyframesFreeIsStillUsable) {
   EXPECT_LT(r.final_cost, r.initial_cost);
 }
 
+TEST(SolveWindowBa, SparseAndDenseSchurAgree) {
+  const test::WindowScene s = test::MakeWindowScene({.seed = 8});
+  WindowBaOptions sparse;
+  sparse.dense_schur_max_keyframes = 0;  // force SPARSE_SCHUR
+  const WindowBaResult a = SolveWindowBa(s.camera, s.problem, {});
+  const WindowBaResult b = SolveWindowBa(s.camera, s.problem, sparse);
+  ASSERT_TRUE(a.usable);
+  ASSERT_TRUE(b.usable);
+  for (const auto& [id, pose] : a.cam_from_world) {
+    EXPECT_LT((pose.translation - b.cam_from_world.at(id).translation).norm(), 1e-6);
+  }
+  EXPECT_NEAR(a.final_cost, b.final_cost, 1e-6 * a.final_cost);
+}
+
 TEST(SolveWindowBa, DeterministicBitForBit) {
-  const BaScene s = MakeScene({.seed = 7});
+  const test::WindowScene s = test::MakeWindowScene({.seed = 7});
   WindowBaOptions options;
   options.lambda = 0.7;
   const WindowBaResult a = SolveWindowBa(s.camera, s.problem, options);
@@ -257,7 +195,8 @@ TEST(SolveWindowBa, DeterministicBitForBit) {
 }
 
 TEST(SolveWindowBa, RejectsBadInput) {
-  BaScene s = MakeScene({.keyframes = 3, .points_per_plane = 10, .off_plane_points = 10});
+  test::WindowScene s =
+      test::MakeWindowScene({.keyframes = 3, .points_per_plane = 10, .off_plane_points = 10});
   WindowBaOptions options;
   options.lambda = 0.0;
   EXPECT_THROW(SolveWindowBa(s.camera, s.problem, options), OptionsError);
