@@ -22,7 +22,9 @@ struct OrbOptions {
 };
 
 // Keypoints and descriptors of one image. Keypoint coordinates are level-0 pixels; `octave` is
-// the pyramid level; `size` the patch diameter at that level; `angle` in degrees.
+// the pyramid level; `size` the patch diameter at that level; `angle` in degrees [0, 360);
+// `response` the FAST score. Keypoints are ordered by level; descriptor row i belongs to
+// keypoint i.
 struct ImageFeatures {
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;           // N x 32, CV_8U
@@ -34,7 +36,8 @@ class OrbExtractor {
   explicit OrbExtractor(const OrbOptions& options);
 
   // Thread-safe (const, no shared mutable state): left and right images may be extracted
-  // concurrently. `grey` must be CV_8UC1.
+  // concurrently. `grey` must be CV_8UC1 (else std::invalid_argument). Deterministic: the
+  // result does not depend on thread scheduling.
   ImageFeatures Extract(const cv::Mat& grey) const;
 
   const OrbOptions& options() const { return options_; }
