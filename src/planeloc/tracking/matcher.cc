@@ -76,7 +76,8 @@ std::vector<ProjectionMatch> MatchByProjection(const std::vector<MatchSource>& s
     }
     if (best_index < 0 || best > options.max_distance) continue;
     // Ratio test only against a competitor on the same level (ORB-SLAM2 local-map search).
-    if (options.ratio < 1.0 && best_level == second_level && best > options.ratio * second) {
+    if (options.ratio < 1.0 && (options.ratio_across_levels || best_level == second_level) &&
+        best > options.ratio * second) {
       continue;
     }
     if (best < best_distance[best_index]) {

@@ -30,9 +30,10 @@ struct MatchSource {
 
 struct MatchOptions {
   int max_distance = kDescriptorThresholdHigh;
-  double ratio = 1.0;              // best < ratio * second best (1 = no ratio test)
-  bool check_orientation = false;  // rotation histogram consistency (needs source angles)
-  bool check_right = true;         // for stereo keypoints, |u_R predicted - u_R| < radius
+  double ratio = 1.0;                // best < ratio * second best (1 = no ratio test)
+  bool ratio_across_levels = false;  // false: only a competitor on the same level counts
+  bool check_orientation = false;    // rotation histogram consistency (needs source angles)
+  bool check_right = true;           // for stereo keypoints, |u_R predicted - u_R| < radius
 };
 
 struct ProjectionMatch {

@@ -108,7 +108,8 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   const Rigid3d predicted = PredictPose();
   bool tracked = false;
   if (last_frame_) {
-    tracked = TrackMotionModel(frame, predicted) || TrackReferenceKeyframe(frame, predicted);
+    tracked = (velocity_ && TrackMotionModel(frame, predicted)) ||
+              TrackReferenceKeyframe(frame, predicted);
   }
   stats.ms_track = MillisecondsSince(track_start);
   if (tracked) {
@@ -188,15 +189,30 @@ bool Tracker::TrackReferenceKeyframe(Frame& frame, const Rigid3d& predicted) {
   if (!map_.HasKeyframe(reference_keyframe_id_)) return false;
   std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
   const Keyframe& reference = map_.keyframe(reference_keyframe_id_);
-  MatchOptions match_options;
-  match_options.check_orientation = true;
-  match_options.ratio = 0.9;
-  // A wide window first around the prediction, then around the last pose (motion changed).
-  for (const auto& [radius, pose] :
-       {std::pair{25.0, predicted}, std::pair{60.0, last_frame_->cam_from_world}}) {
-    frame.cam_from_world = pose;
+  // A wide window around the prediction, then around the last pose (the motion changed), then
+  // the whole image with a strict ratio test. Without a velocity yet (second frame) the
+  // prediction is "no motion", often metres off: only the whole-image search is reliable.
+  struct Stage {
+    double radius;
+    Rigid3d pose;
+    double ratio;
+  };
+  constexpr double kWholeImage = 4000.0;
+  std::vector<Stage> stages;
+  if (velocity_) {
+    stages.push_back({25.0, predicted, 0.9});
+    stages.push_back({60.0, last_frame_->cam_from_world, 0.9});
+  }
+  stages.push_back({kWholeImage, last_frame_->cam_from_world, 0.8});
+  for (const Stage& stage : stages) {
+    MatchOptions match_options;
+    match_options.check_orientation = true;
+    match_options.ratio = stage.ratio;
+    match_options.ratio_across_levels = stage.radius >= kWholeImage;
+    match_options.check_right = stage.radius < kWholeImage;
+    frame.cam_from_world = stage.pose;
     const std::vector<MatchSource> sources =
-        SourcesFromKeyframe(reference, map_, radius, options_.orb.scale_factor);
+        SourcesFromKeyframe(reference, map_, stage.radius, options_.orb.scale_factor);
     const std::vector<ProjectionMatch> matches =
         MatchByProjection(sources, frame, camera_, match_options);
     if (static_cast<int>(matches.size()) < 15) continue;

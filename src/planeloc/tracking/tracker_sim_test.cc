@@ -1,0 +1,109 @@
+// The tracker on the simulator's `tiny` preset (exact ground truth): accuracy, the threaded
+// BA path, and bit-identical deterministic runs.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "planeloc/io/trajectory.h"
+#include "planeloc/sim/simulator.h"
+#include "planeloc/tracking/run_sequence.h"
+#include "planeloc/util/temp_dir.h"
+
+namespace planeloc {
+namespace {
+
+class TrackerSimTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::make_unique<TempDir>("planeloc-tracking-sim");
+    sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
+    options.show_progress = false;
+    result_ =
+        std::make_unique<sim::SimResult>(sim::GenerateSequence(options, dir_->path() / "sim"));
+  }
+  static void TearDownTestSuite() {
+    result_.reset();
+    dir_.reset();
+  }
+
+  static RunOptions Run(const std::string& name, bool deterministic) {
+    RunOptions run;
+    run.sequence = result_->sequence_dir;
+    run.trajectory_path = dir_->path() / (name + ".txt");
+    run.deterministic = deterministic;
+    run.show_progress = false;
+    return run;
+  }
+
+  static std::string ReadBytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream out;
+    out << in.rdbuf();
+    return out.str();
+  }
+
+  // Translation error of the last pose relative to the first, over the GT path length.
+  static double EndDrift(const std::vector<Rigid3d>& estimate) {
+    const std::vector<Rigid3d>& gt = result_->world_from_cam;
+    double length = 0;
+    for (std::size_t i = 1; i < gt.size(); ++i) {
+      length += (gt[i].translation - gt[i - 1].translation).norm();
+    }
+    const Rigid3d gt_rel = gt.front().Inverse() * gt.back();
+    const Rigid3d est_rel = estimate.front().Inverse() * estimate.back();
+    return (gt_rel.translation - est_rel.translation).norm() / length;
+  }
+
+  static std::unique_ptr<TempDir> dir_;
+  static std::unique_ptr<sim::SimResult> result_;
+};
+
+std::unique_ptr<TempDir> TrackerSimTest::dir_;
+std::unique_ptr<sim::SimResult> TrackerSimTest::result_;
+
+TEST_F(TrackerSimTest, TinyTracksEveryFrameWithSmallDrift) {
+  const RunSummary summary = RunSequence(Run("deterministic", true));
+  ASSERT_EQ(summary.frames, result_->frames);
+  EXPECT_EQ(summary.lost, 0);
+  EXPECT_EQ(summary.tracked, summary.frames);
+  EXPECT_LT(EndDrift(summary.world_from_cam), 0.015);
+  // Every pose close to the truth (first pose identity in both).
+  for (int i = 0; i < summary.frames; ++i) {
+    EXPECT_LT(
+        (summary.world_from_cam[i].translation - result_->world_from_cam[i].translation).norm(),
+        0.5)
+        << "frame " << i;
+  }
+}
+
+TEST_F(TrackerSimTest, ThreadedBaTracksEveryFrame) {
+  RunOptions run = Run("threaded", false);
+  run.max_frames = 30;
+  const RunSummary summary = RunSequence(run);
+  ASSERT_EQ(summary.frames, 30);
+  EXPECT_EQ(summary.lost, 0);
+  EXPECT_GT(summary.keyframes, 1);
+  for (int i = 0; i < summary.frames; ++i) {
+    EXPECT_LT(
+        (summary.world_from_cam[i].translation - result_->world_from_cam[i].translation).norm(),
+        0.5)
+        << "frame " << i;
+  }
+}
+
+TEST_F(TrackerSimTest, DeterministicRunsAreBitIdentical) {
+  RunOptions first = Run("first", true);
+  RunOptions second = Run("second", true);
+  first.max_frames = second.max_frames = 20;
+  second.threads = 1;  // the thread count of feature extraction must not matter either
+  RunSequence(first);
+  RunSequence(second);
+  const std::string a = ReadBytes(first.trajectory_path);
+  ASSERT_FALSE(a.empty());
+  EXPECT_EQ(a, ReadBytes(second.trajectory_path));
+}
+
+}  // namespace
+}  // namespace planeloc
