@@ -12,7 +12,7 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kUnboundedArea = 4000.0;  // m^2: larger quads (the ground) skip the tree
 constexpr int kBins = 12;
-constexpr std::uint32_t kLeafSize = 4;
+constexpr std::uint32_t kLeafSize = 2;
 
 float SurfaceArea(const Eigen::AlignedBox3f& box) {
   const Eigen::Vector3f e = box.sizes();
@@ -231,7 +231,11 @@ bool Scene::Traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, 
     }
     return t0 <= t1 ? t0 : kInf;
   };
-  std::uint32_t stack[64];
+  struct Entry {
+    std::uint32_t node;
+    float t;
+  };
+  Entry stack[64];
   int top = 0;
   std::uint32_t current = 0;
   if (enter(nodes_[0]) == kInf) return found;
@@ -249,28 +253,34 @@ bool Scene::Traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, 
       float t_near = enter(nodes_[near]), t_far = enter(nodes_[far]);
       if (t_far < t_near) std::swap(near, far), std::swap(t_near, t_far);
       if (t_near != kInf) {
-        if (t_far != kInf && top < 64) stack[top++] = far;
+        if (t_far != kInf && top < 64) stack[top++] = {far, t_far};
         current = near;
         continue;
       }
     }
-    // Pop until a node still in front of the best hit.
-    bool next = false;
-    while (top > 0) {
-      const std::uint32_t candidate = stack[--top];
-      if (enter(nodes_[candidate]) != kInf) {
-        current = candidate;
-        next = true;
-        break;
-      }
-    }
-    if (!next) return found;
+    // Pop until a node whose entry is still in front of the best hit.
+    while (top > 0 && stack[top - 1].t > t_best) --top;
+    if (top == 0) return found;
+    current = stack[--top].node;
   }
 }
 
 bool Scene::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max,
                       Hit* hit) const {
   return Traverse<false>(origin, dir, t_max, hit);
+}
+
+bool Scene::IntersectLinear(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max,
+                            Hit* hit) const {
+  bool found = false;
+  Hit scratch;
+  for (const auto* refs : {&unbounded_, &prim_refs_}) {
+    for (const PrimRef& ref : *refs) {
+      if (HitPrimitive(ref, origin, dir, t_max, &scratch))
+        *hit = scratch, t_max = scratch.t, found = true;
+    }
+  }
+  return found;
 }
 
 bool Scene::Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max) const {

@@ -31,6 +31,10 @@ class Scene {
   // True if anything is hit with t in (t_min, t_max) (shadow rays).
   bool Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max) const;
 
+  // The same query testing every primitive without the tree (reference for tests).
+  bool IntersectLinear(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max,
+                       Hit* hit) const;
+
   const World& world() const { return world_; }
   std::size_t node_count() const { return nodes_.size(); }
 

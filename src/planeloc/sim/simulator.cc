@@ -290,7 +290,6 @@ SimResult GenerateSequence(const SimOptions& options, const fs::path& out_dir, b
 
   const Scene scene(scenario.world);
   const Shader shader(scenario.world, bank);
-  const Rigid3d velo_from_cam = result.cam_from_velo.Inverse();
   const Rigid3d left_from_right(Eigen::Quaterniond::Identity(),
                                 Eigen::Vector3d(result.camera.baseline, 0, 0));
   ProgressBar progress("sim", static_cast<std::size_t>(result.frames), "frames");
@@ -308,7 +307,8 @@ SimResult GenerateSequence(const SimOptions& options, const fs::path& out_dir, b
       const cv::Mat left = RenderView(scene, shader, result.camera, world_from_cam, light, seed(0));
       const cv::Mat right = RenderView(scene, shader, result.camera,
                                        world_from_cam * left_from_right, light, seed(1));
-      const VelodyneScan scan = ScanLidar(scene, shader, world_from_cam * velo_from_cam, seed(2));
+      const VelodyneScan scan =
+          ScanLidar(scene, shader, world_from_cam * result.cam_from_velo, seed(2));
       const std::string png = FrameName(f, "png");
       CheckInput(cv::imwrite((result.sequence_dir / "image_0" / png).string(), left),
                  (result.sequence_dir / "image_0" / png).string(), 0, "cannot write the image",
