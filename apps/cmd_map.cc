@@ -1,0 +1,112 @@
+// `planeloc map build` (LiDAR scans + poses -> point-cloud map) and `planeloc map planes`
+// (map -> tensor voting -> planes.json). The algorithms live in src/planeloc/map; this file wires
+// files and flags (see docs/map.md).
+#include <spdlog/spdlog.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "command_registry.h"
+#include "planeloc/io/kitti_sequence.h"
+#include "planeloc/io/plane_map.h"
+#include "planeloc/io/point_cloud.h"
+#include "planeloc/io/trajectory.h"
+#include "planeloc/map/map_builder.h"
+#include "planeloc/map/map_options.h"
+#include "planeloc/map/map_planes.h"
+
+namespace planeloc::cli {
+namespace {
+
+struct BuildArgs {
+  std::string sequence;
+  std::string poses;
+  std::string out;
+  MapBuildOptions options;
+};
+
+struct PlanesArgs {
+  std::string map;
+  std::string out;
+  std::string ply;
+  std::string options_yaml;
+  double sigma = TensorVotingOptions().sigma;
+  std::vector<double> up;
+};
+
+int RunBuild(const BuildArgs& args) {
+  const KittiSequence sequence = KittiSequence::Open(args.sequence);
+  const Trajectory poses = ReadKittiTrajectory(args.poses);
+  const PointCloud map = BuildMap(args.options, sequence, poses);
+  WritePointCloud(args.out, map);
+  spdlog::info("map build: wrote {} ({} points)", args.out, map.size());
+  return 0;
+}
+
+int RunPlanes(const PlanesArgs& args, bool sigma_given) {
+  MapPlanesOptions options;
+  if (!args.options_yaml.empty()) LoadMapPlanesOptions(args.options_yaml, options);
+  if (sigma_given) options.tensor_voting.sigma = args.sigma;  // the flag wins over the file
+  if (args.up.size() == 3) options.plane_extraction.up = {args.up[0], args.up[1], args.up[2]};
+  const PointCloud map = ReadPointCloud(args.map);
+  spdlog::info("map planes: {} points from {}", map.size(), args.map);
+  const MapPlanesOutput output = RunMapPlanes(map, options);
+  const PlaneMap& planes = output.extraction.plane_map;
+  spdlog::info("map planes: tensor voting {:.2f} s, plane extraction {:.2f} s, {} planes",
+               output.voting_seconds, output.extraction_seconds, planes.planes.size());
+  WritePlaneMap(args.out, planes);
+  if (!args.ply.empty()) {
+    PointCloud labelled;
+    labelled.points = map.points;
+    labelled.colors = PlaneColors(output);
+    WritePointCloud(args.ply, labelled);
+  }
+  return 0;
+}
+
+CommandRunner SetupMap(CLI::App& app) {
+  auto* map = app.add_subcommand("map", "LiDAR map: build it from scans, extract its planes");
+  map->require_subcommand(1);
+
+  auto build_args = std::make_shared<BuildArgs>();
+  auto* build = map->add_subcommand("build", "Accumulate a KITTI sequence's Velodyne scans");
+  build->add_option("--sequence", build_args->sequence, "KITTI sequence folder (odometry or raw)")
+      ->required();
+  build->add_option("--poses", build_args->poses, "KITTI pose file (world_from_cam per frame)")
+      ->required();
+  build->add_option("--out", build_args->out, "Map file (.pcd, .ply or .xyz)")->required();
+  build->add_option("--voxel", build_args->options.voxel_size, "Voxel size, metres (0 = none)")
+      ->capture_default_str();
+  build->add_option("--every", build_args->options.every, "Use every N-th scan")
+      ->capture_default_str();
+  build->add_option("--min-range", build_args->options.min_range, "Drop closer points, metres")
+      ->capture_default_str();
+  build->add_option("--max-range", build_args->options.max_range, "Drop farther points, metres")
+      ->capture_default_str();
+
+  auto planes_args = std::make_shared<PlanesArgs>();
+  auto* planes = map->add_subcommand("planes", "Tensor voting and plane extraction -> planes.json");
+  planes->add_option("--map", planes_args->map, "Map (.pcd, .ply or .xyz)")->required();
+  planes->add_option("--out", planes_args->out, "Plane map JSON")->required();
+  planes->add_option("--ply", planes_args->ply, "Also write the map coloured by plane and class");
+  auto* sigma = planes->add_option("--sigma", planes_args->sigma,
+                                   "Tensor-voting scale sigma, metres (overrides --options)");
+  sigma->capture_default_str();
+  planes->add_option("--options", planes_args->options_yaml, "YAML options (see docs/map.md)");
+  planes
+      ->add_option("--up", planes_args->up,
+                   "Up direction of the map frame (default 0 -1 0: KITTI camera world)")
+      ->expected(3);
+
+  return [build, planes, build_args, planes_args, sigma]() {
+    if (build->parsed()) return RunBuild(*build_args);
+    if (planes->parsed()) return RunPlanes(*planes_args, sigma->count() > 0);
+    return 2;
+  };
+}
+
+const CommandRegistrar kRegistrar("map", SetupMap);
+
+}  // namespace
+}  // namespace planeloc::cli

@@ -1,0 +1,57 @@
+// Plane extraction on real Velodyne HDL-64E scans of KITTI-00 (../shared/data/kitti00-velodyne):
+// the road and the building facades of a residential street.
+#include <gtest/gtest.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "planeloc/io/kitti_sequence.h"
+#include "planeloc/map/map_builder.h"
+#include "planeloc/map/map_planes.h"
+#include "planeloc/util/test_data.h"
+
+namespace planeloc {
+namespace {
+
+class KittiScanPlanesTest : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(KittiScanPlanesTest, FindsRoadBelowSensorAndFacades) {
+  PLANELOC_SHARED_DATA_OR_SKIP(path, std::string("kitti00-velodyne/") + GetParam());
+  const VelodyneScan scan = ReadVelodyneScan(path);
+  // One scan as a map in the sensor frame (z up), ranges and voxels as `planeloc map build`.
+  MapBuildOptions build;
+  build.show_progress = false;
+  MapAccumulator accumulator(build);
+  accumulator.AddScan(scan.points, Rigid3d::Identity());
+  const PointCloud map = accumulator.Finish();
+  MapPlanesOptions options;
+  options.plane_extraction.up = Eigen::Vector3d::UnitZ();
+  const MapPlanesOutput output = RunMapPlanes(map, options);
+  const auto& planes = output.extraction.plane_map.planes;
+  spdlog::info("{}: {} points, {} planes, voting {:.2f} s, extraction {:.2f} s", GetParam(),
+               map.size(), planes.size(), output.voting_seconds, output.extraction_seconds);
+  const MapPlane* road = nullptr;  // the largest plane of ground kind below the sensor
+  int large_vertical = 0;
+  for (const MapPlane& p : planes) {
+    const Eigen::Vector3d& n = p.plane_in_map.normal;
+    if (p.kind == "ground" && p.centroid.z() < 0.0 && (!road || p.inliers > road->inliers)) {
+      road = &p;
+    }
+    large_vertical += std::abs(n.z()) < std::sin(10.0 * std::numbers::pi / 180.0) && p.area >= 20.0;
+  }
+  ASSERT_NE(road, nullptr);
+  const double tilt_deg =
+      std::acos(road->plane_in_map.normal.z()) * 180.0 / std::numbers::pi;  // normal points up
+  EXPECT_LT(tilt_deg, 5.0);
+  // Sensor height above the road = signed distance of the origin: n . 0 + d = d.
+  EXPECT_GT(road->plane_in_map.d, 1.55);
+  EXPECT_LT(road->plane_in_map.d, 1.95);
+  EXPECT_GE(large_vertical, 2);
+}
+
+INSTANTIATE_TEST_SUITE_P(Kitti00, KittiScanPlanesTest,
+                         ::testing::Values("000094.bin", "000198.bin"));
+
+}  // namespace
+}  // namespace planeloc

@@ -1,0 +1,84 @@
+#include "planeloc/map/map_planes.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// HSV (h in [0, 1)) with full saturation and value 0.95 to RGB.
+Eigen::Vector3d Hue(double h) {
+  const double v = 0.95, s = 0.85;
+  const double sector = h * 6.0;
+  const int i = static_cast<int>(sector) % 6;
+  const double f = sector - std::floor(sector);
+  const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  switch (i) {
+    case 0:
+      return {v, t, p};
+    case 1:
+      return {q, v, p};
+    case 2:
+      return {p, v, t};
+    case 3:
+      return {p, q, v};
+    case 4:
+      return {t, p, v};
+    default:
+      return {v, p, q};
+  }
+}
+
+}  // namespace
+
+MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& options) {
+  options.Check();
+  CheckInput(!map.empty(), "", 0, "the map is empty", "give a map with points");
+  MapPlanesOutput output;
+  auto start = std::chrono::steady_clock::now();
+  output.voting = RunTensorVoting(map.points, options.tensor_voting);
+  output.voting_seconds = SecondsSince(start);
+  start = std::chrono::steady_clock::now();
+  output.extraction = ExtractPlanes(map.points, output.voting, options.plane_extraction);
+  output.extraction_seconds = SecondsSince(start);
+  output.extraction.plane_map.stats["options"] = MapOptionsToJson(options);
+  if (output.extraction.plane_map.planes.empty()) {
+    spdlog::warn("map planes: no planar structure found in {} points; writing an empty plane map",
+                 map.size());
+  }
+  return output;
+}
+
+std::vector<Eigen::Vector3d> PlaneColors(const MapPlanesOutput& output) {
+  const auto& labels = output.extraction.point_plane;
+  std::vector<Eigen::Vector3d> colors(labels.size());
+  constexpr double kGolden = 0.618033988749895;  // spreads consecutive ids around the hue circle
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (labels[i] >= 0) {
+      colors[i] = Hue(std::fmod(0.1 + kGolden * labels[i], 1.0));
+      continue;
+    }
+    switch (output.voting.classes[i]) {
+      case SaliencyClass::kSurface:
+        colors[i] = {0.7, 0.7, 0.7};
+        break;
+      case SaliencyClass::kCurve:
+        colors[i] = {0.2, 0.3, 0.8};
+        break;
+      case SaliencyClass::kJunction:
+        colors[i] = {0.45, 0.05, 0.05};
+        break;
+    }
+  }
+  return colors;
+}
+
+}  // namespace planeloc

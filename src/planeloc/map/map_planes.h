@@ -1,0 +1,30 @@
+// The whole `planeloc map planes` computation on a loaded map, without any file handling:
+// tensor voting, plane extraction, the effective options in the stats, and viewing colours.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "planeloc/io/point_cloud.h"
+#include "planeloc/map/map_options.h"
+#include "planeloc/map/plane_extraction.h"
+#include "planeloc/map/tensor_voting.h"
+
+namespace planeloc {
+
+struct MapPlanesOutput {
+  TensorVotingResult voting;
+  PlaneExtractionResult extraction;  // plane_map.stats also holds "options"
+  double voting_seconds = 0.0;       // wall-clock, for logs only (not written to planes.json)
+  double extraction_seconds = 0.0;
+};
+
+// Throws OptionsError for bad options, InputError for an empty map. A map without planes gives an
+// empty plane map (and a warning in the log).
+MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& options);
+
+// One RGB colour per point for viewing: plane points by plane id (distinct hues), the others by
+// tensor-voting class (surface light grey, curve blue, junction dark red).
+std::vector<Eigen::Vector3d> PlaneColors(const MapPlanesOutput& output);
+
+}  // namespace planeloc
