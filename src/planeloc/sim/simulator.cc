@@ -122,7 +122,9 @@ void ScenarioFromPoseFile(const SimOptions& options, int frames, Scenario* out,
 }
 
 void ScenarioFromPreset(const SimOptions& options, int frames, Scenario* out, StreetPath* street) {
-  const double extra = frames * 1.25 + 150.0;  // street beyond the last frame (12.5 m/s max)
+  // Street beyond the last frame (12.5 m/s max); it depends on the preset's length, not on
+  // --frames, so the first N frames of a run are the same for every N up to the preset's.
+  const double extra = std::max(frames, PresetFrames(options.preset)) * 1.25 + 150.0;
   DriveOptions drive;
   drive.start_s = 80.0;
   if (options.preset == "tiny") {

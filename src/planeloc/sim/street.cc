@@ -209,7 +209,9 @@ std::vector<Rigid3d> DriveAlong(const StreetPath& lane, int frames, const DriveO
   double phases[6];
   for (double& p : phases) p = phase(rng);
   const double ds = 0.25;
-  const double distance = frames * 12.0 / o.rate_hz + 20.0;
+  // 200 m past the last frame: far beyond the braking distance (v^2 / 2a = 60 m), so the speeds
+  // of the first N frames do not depend on N.
+  const double distance = frames * 12.0 / o.rate_hz + 200.0;
   const auto v = SpeedProfile(lane, o.start_s, distance, ds, o, phases[0]);
   const auto arcs = FrameArcs(v, o.start_s, ds, frames, o.rate_hz);
   const Eigen::Matrix3d vehicle_from_cam = VehicleFromCamRotation();
