@@ -21,6 +21,14 @@
 // The lambda weighting of the paper's total cost lambda * E_reproj + (1 - lambda) * E_plane is NOT
 // inside these functors: callers wrap each residual's loss in ceres::ScaledLoss(lambda) or
 // ceres::ScaledLoss(1 - lambda) (see window_ba.cc), so each functor stays a pure whitened residual.
+//
+// Which one to use:
+//   StereoReprojectionError / MonoReprojectionError   templated autodiff functors (reference)
+//   StereoReprojectionAnalytic / MonoReprojectionPadded   same residuals, analytic Jacobians
+//                                                          (window BA)
+//   StereoPoseOnlyError / MonoPoseOnlyError           point fixed, analytic (OptimizePose)
+//   PointToPlaneError                                  templated autodiff functor
+// Derivations and design notes: docs/optim.md.
 #pragma once
 
 #include <ceres/autodiff_cost_function.h>

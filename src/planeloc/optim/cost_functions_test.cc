@@ -285,6 +285,32 @@ TEST(CostFunctions, TinySolvesRecoverPose) {
             1e-6);
 }
 
+TEST(CostFunctions, TinySolveRecoversPointFromTwoViews) {
+  // A perturbed point seen by two fixed stereo cameras 1 m apart converges to the truth.
+  const PinholeStereoIntrinsics k = SimpleIntrinsics();
+  const Eigen::Vector3d truth(0.5, -0.4, 8.0);
+  Eigen::Vector3d x = truth + Eigen::Vector3d(0.3, 0.2, -0.8);
+  std::vector<PoseParams> poses = {
+      PoseParams(Rigid3d::Identity()),
+      PoseParams(Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-1.0, 0.0, 0.0)))};
+  ceres::Problem problem;
+  for (PoseParams& pose : poses) {
+    const Eigen::Vector3d pixel = StereoPixel(k, pose.ToRigid() * truth);
+    problem.AddResidualBlock(new StereoReprojectionAnalytic(k, pixel, 1.0), nullptr, pose.q, pose.t,
+                             x.data());
+    problem.AddResidualBlock(MonoReprojectionError::Create(k, pixel.head<2>(), 1.0), nullptr,
+                             pose.q, pose.t, x.data());
+    problem.SetParameterBlockConstant(pose.q);
+    problem.SetParameterBlockConstant(pose.t);
+  }
+  ceres::Solver::Options options;
+  options.max_num_iterations = 50;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  EXPECT_TRUE(summary.IsSolutionUsable());
+  EXPECT_LT((x - truth).norm(), 1e-8);
+}
+
 TEST(CostFunctions, TinySolveRecoversPointFromPlanes) {
   // Three non-parallel planes meet in one point; point-to-plane residuals alone recover it.
   const Eigen::Vector3d corner(1.0, -2.0, 7.0);

@@ -156,6 +156,48 @@ TEST(SolveWindowBa, PlanesReduceScaleDriftStereo) {
   EXPECT_LT(MeanPoseError(s, planar.cam_from_world), MeanPoseError(s, visual.cam_from_world));
 }
 
+// Points associated with the wrong plane (metres away from it) lose their plane term after
+// round 1, so a wrong association does not drag the window.
+TEST(SolveWindowBa, WrongPlaneAssociationsAreDropped) {
+  test::WindowScene s = test::MakeWindowScene({.seed = 9});
+  int reassigned = 0;
+  for (WindowPoint& p : s.problem.points) {
+    if (p.plane_id == 1 && p.id % 4 == 0) {  // left-wall points claimed by the right wall
+      p.plane_id = 2;
+      ++reassigned;
+    }
+  }
+  ASSERT_GT(reassigned, 20);
+  const WindowBaResult visual = SolveWindowBa(s.camera, s.problem, {});
+  WindowBaOptions with_planes;
+  with_planes.lambda = 0.5;
+  const WindowBaResult planar = SolveWindowBa(s.camera, s.problem, with_planes);
+  ASSERT_TRUE(planar.usable);
+  EXPECT_LE(planar.num_plane_residuals, 450 - reassigned);
+  EXPECT_LT(MeanPoseError(s, planar.cam_from_world), 1.2 * MeanPoseError(s, visual.cam_from_world));
+}
+
+// Only lambda / (1 - lambda) matters: lambda = 0.8 with sigma_plane equals lambda = 0.5 with
+// sigma_plane * sqrt(0.8 / 0.2) (the Huber threshold in metres unchanged) up to solver tolerance.
+TEST(SolveWindowBa, LambdaActsAsPlaneSigmaRatio) {
+  const test::WindowScene s = test::MakeWindowScene({.seed = 10});
+  WindowBaOptions a;
+  a.lambda = 0.8;
+  a.plane_sigma = 0.05;
+  WindowBaOptions b;
+  b.lambda = 0.5;
+  b.plane_sigma = 0.05 * std::sqrt(0.8 / 0.2);
+  const WindowBaResult ra = SolveWindowBa(s.camera, s.problem, a);
+  const WindowBaResult rb = SolveWindowBa(s.camera, s.problem, b);
+  ASSERT_TRUE(ra.usable);
+  ASSERT_TRUE(rb.usable);
+  for (const auto& [id, pose] : ra.cam_from_world) {
+    EXPECT_LT((pose.translation - rb.cam_from_world.at(id).translation).norm(), 1e-3) << id;
+  }
+  // The costs differ by the overall factor lambda_a / lambda_b.
+  EXPECT_NEAR(ra.final_cost / rb.final_cost, 0.8 / 0.5, 0.01 * 0.8 / 0.5);
+}
+
 TEST(SolveWindowBa, AllKeyframesFreeIsStillUsable) {
   test::WindowScene s = test::MakeWindowScene({.seed = 6});
   for (WindowKeyframe& kf : s.problem.keyframes) kf.fixed = false;
