@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "planeloc/features/test_images.h"
 #include "planeloc/util/error.h"
@@ -165,6 +166,35 @@ TEST(OrbExtractor, DescriptorsAreRotationInvariant) {
   ASSERT_GE(compared, 100);
   EXPECT_GE(angle_ok, 0.95 * compared);
   EXPECT_GE(descriptor_matches, 0.8 * compared);
+}
+
+// A 30-degree rotation resamples the image: brute-force descriptor matches must still mostly agree
+// with the rotation (an unrotated BRIEF loses most of them at this angle).
+TEST(OrbExtractor, MatchesAcrossAnArbitraryRotation) {
+  const cv::Mat image = testing::RandomTexture(cv::Size(480, 480), 8, 200.0, 128.0, 0.7);
+  const cv::Point2f centre(239.5f, 239.5f);
+  const cv::Mat rotation = cv::getRotationMatrix2D(centre, 30.0, 1.0);
+  cv::Mat rotated;
+  cv::warpAffine(image, rotated, rotation, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
+  const OrbExtractor extractor{OrbOptions()};
+  const ImageFeatures original = extractor.Extract(image);
+  const ImageFeatures turned = extractor.Extract(rotated);
+  std::vector<cv::DMatch> matches;
+  cv::BFMatcher(cv::NORM_HAMMING, true).match(original.descriptors, turned.descriptors, matches);
+  int consistent = 0, considered = 0;
+  for (const cv::DMatch& m : matches) {
+    const cv::Point2f p = original.keypoints[m.queryIdx].pt;
+    if (cv::norm(p - centre) > 200) continue;  // corners of the original leave the image
+    ++considered;
+    const cv::Point2f expected(
+        static_cast<float>(rotation.at<double>(0, 0) * p.x + rotation.at<double>(0, 1) * p.y +
+                           rotation.at<double>(0, 2)),
+        static_cast<float>(rotation.at<double>(1, 0) * p.x + rotation.at<double>(1, 1) * p.y +
+                           rotation.at<double>(1, 2)));
+    if (cv::norm(turned.keypoints[m.trainIdx].pt - expected) < 3.0) ++consistent;
+  }
+  ASSERT_GT(considered, 500);
+  EXPECT_GT(consistent, 0.5 * considered);
 }
 
 TEST(OrbExtractor, RejectsNonGreyImages) {
