@@ -118,10 +118,11 @@ PoseOptimizerResult OptimizePose(const StereoCamera& camera, const Rigid3d& cam_
       classify();
       break;
     }
+    const PoseBlocks before = pose;
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);
-    // Re-classify every observation, also this round's outliers, at the new pose. An unusable
-    // solve leaves the parameters at the last accepted step, so the flags stay consistent.
+    if (!summary.IsSolutionUsable()) pose = before;  // keep the last good pose, never a broken one
+    // Re-classify every observation, also this round's outliers, at the (new) pose.
     classify();
     if (!summary.IsSolutionUsable()) break;
   }
