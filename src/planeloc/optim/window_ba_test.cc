@@ -222,6 +222,18 @@ TEST(SolveWindowBa, SparseAndDenseSchurAgree) {
   EXPECT_NEAR(a.final_cost, b.final_cost, 1e-6 * a.final_cost);
 }
 
+TEST(SolveWindowBa, TwoThreadsMatchOneThread) {
+  const test::WindowScene s = test::MakeWindowScene({.seed = 11});
+  WindowBaOptions two;
+  two.num_threads = 2;
+  const WindowBaResult a = SolveWindowBa(s.camera, s.problem, {});
+  const WindowBaResult b = SolveWindowBa(s.camera, s.problem, two);
+  ASSERT_TRUE(b.usable);
+  for (const auto& [id, pose] : a.cam_from_world) {
+    EXPECT_LT((pose.translation - b.cam_from_world.at(id).translation).norm(), 1e-6);
+  }
+}
+
 TEST(SolveWindowBa, DeterministicBitForBit) {
   const test::WindowScene s = test::MakeWindowScene({.seed = 7});
   WindowBaOptions options;
