@@ -48,19 +48,69 @@ void Store(const Eigen3& eig, std::size_t i, TensorVotingResult& result) {
   result.classes[i] = ClassifySaliency(eig.l1, eig.l2, eig.l3);
 }
 
+// exp(-x) for x >= 0 by linear interpolation in a table (relative error < 1e-4 for x < 20, 0
+// beyond): the vote loops are dominated by exp, and the decay needs no more precision.
+class NegExpTable {
+ public:
+  NegExpTable() {
+    for (int i = 0; i <= kSize; ++i) table_[i] = std::exp(-static_cast<double>(i) / kScale);
+  }
+  double operator()(double x) const {
+    const double t = x * kScale;
+    if (!(t < kSize)) return 0.0;
+    const int i = static_cast<int>(t);
+    const double f = t - i;
+    return table_[i] + f * (table_[i + 1] - table_[i]);
+  }
+
+ private:
+  static constexpr int kSize = 20 * 256;
+  static constexpr double kScale = 256.0;
+  double table_[kSize + 1];
+};
+const NegExpTable& NegExp() {
+  static const NegExpTable table;
+  return table;
+}
+
+// Upper triangle of a symmetric 3x3 accumulator (xx, xy, xz, yy, yz, zz): half the work of a
+// full outer product in the vote loops.
+struct SymAccumulator {
+  double a[6] = {0, 0, 0, 0, 0, 0};
+  void AddOuter(double w, const Eigen::Vector3d& v) {
+    a[0] += w * v.x() * v.x();
+    a[1] += w * v.x() * v.y();
+    a[2] += w * v.x() * v.z();
+    a[3] += w * v.y() * v.y();
+    a[4] += w * v.y() * v.z();
+    a[5] += w * v.z() * v.z();
+  }
+  void AddIdentity(double w) {
+    a[0] += w;
+    a[3] += w;
+    a[5] += w;
+  }
+  Eigen::Matrix3d Matrix() const {
+    Eigen::Matrix3d m;
+    m << a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5];
+    return m;
+  }
+};
+
 // Pass 1: unoriented voters cast (l^2 I - v v^T) w(l) / sigma^2 (see the header).
 Eigen::Matrix3d BallTensor(const std::vector<Eigen::Vector3d>& points, const Neighborhoods& hoods,
                            std::size_t votee, double inv_sigma2) {
-  Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+  const NegExpTable& neg_exp = NegExp();
+  SymAccumulator tensor;
   const Eigen::Vector3d& x = points[votee];
   for (std::int64_t k = hoods.begin(votee); k < hoods.end(votee); ++k) {
     const Eigen::Vector3d v = x - points[hoods.indices[k]];
     const double l2 = v.squaredNorm();
-    const double w = std::exp(-l2 * inv_sigma2) * inv_sigma2;
-    tensor.noalias() -= w * (v * v.transpose());
-    tensor.diagonal().array() += w * l2;
+    const double w = neg_exp(l2 * inv_sigma2) * inv_sigma2;
+    tensor.AddOuter(-w, v);
+    tensor.AddIdentity(w * l2);
   }
-  return tensor;
+  return tensor.Matrix();
 }
 
 // Pass 2: voter i casts its normal n_i along the osculating arc. With s = sin(theta) = n.v^, the
@@ -69,35 +119,40 @@ Eigen::Matrix3d StickTensor(const std::vector<Eigen::Vector3d>& points, const Ne
                             const std::vector<Eigen::Vector3d>& normals,
                             const std::vector<float>& stick, const std::vector<float>& ball,
                             std::size_t votee, const TensorVotingOptions& options) {
+  const NegExpTable& neg_exp = NegExp();
   const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
   const double curvature_scale = 4.0 * options.curvature_weight * options.sigma * options.sigma;
   const double max_sin = std::sin(options.max_stick_angle_deg * kDegToRad);
   const Eigen::Vector3d& x = points[votee];
-  Eigen::Matrix3d tensor = stick[votee] * (normals[votee] * normals[votee].transpose());
+  SymAccumulator tensor;
+  tensor.AddOuter(stick[votee], normals[votee]);
   for (std::int64_t k = hoods.begin(votee); k < hoods.end(votee); ++k) {
     const std::int32_t voter = hoods.indices[k];
     const Eigen::Vector3d& n = normals[voter];
     const Eigen::Vector3d v = x - points[voter];
     const double l2 = v.squaredNorm();
     if (l2 < 1e-24) {
-      tensor.noalias() += stick[voter] * (n * n.transpose());
+      tensor.AddOuter(stick[voter], n);
       continue;
     }
-    const double decay = std::exp(-l2 * inv_sigma2);
-    const Eigen::Vector3d v_unit = v / std::sqrt(l2);
+    const double inv_l2 = 1.0 / l2;
+    const double decay = neg_exp(l2 * inv_sigma2);
     // The voter's ball part votes as a ball (Medioni): without it, clutter whose pass-1 normals
-    // are weak but spatially correlated would be smoothed into false surfaces.
+    // are weak but spatially correlated would be smoothed into false surfaces. Unit-free form:
+    // ball * decay * (I - v v^T / l^2).
     const double ball_weight = ball[voter] * decay;
-    tensor.noalias() -= ball_weight * (v_unit * v_unit.transpose());
-    tensor.diagonal().array() += ball_weight;
-    const double s = n.dot(v_unit);
-    if (stick[voter] <= 0.0f || std::abs(s) > max_sin) continue;
+    tensor.AddOuter(-ball_weight * inv_l2, v);
+    tensor.AddIdentity(ball_weight);
+    const double s_times_l = n.dot(v);  // s * l
+    const double s2 = s_times_l * s_times_l * inv_l2;
+    if (stick[voter] <= 0.0f || s2 > max_sin * max_sin) continue;
     // kappa^2 = 4 s^2 / l^2, so c (sigma kappa)^2 = curvature_scale * s^2 / l^2.
-    const double w = stick[voter] * decay * std::exp(-curvature_scale * s * s / l2);
-    const Eigen::Vector3d voted = n - 2.0 * s * v_unit;
-    tensor.noalias() += w * (voted * voted.transpose());
+    const double w = stick[voter] * decay * neg_exp(curvature_scale * s2 * inv_l2);
+    // n - 2 s v^ = n - 2 (s l) v / l^2.
+    const Eigen::Vector3d voted = n - (2.0 * s_times_l * inv_l2) * v;
+    tensor.AddOuter(w, voted);
   }
-  return tensor;
+  return tensor.Matrix();
 }
 
 template <typename Fn>
@@ -156,8 +211,9 @@ Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, doub
   const open3d::geometry::KDTreeFlann tree(data);
   std::vector<std::vector<std::int32_t>> lists(points.size());
   ParallelFor(points.size(), [&](std::size_t i) {
-    std::vector<int> found;
-    std::vector<double> distances2;
+    // Reused per thread: the search would otherwise allocate twice per point.
+    thread_local std::vector<int> found;
+    thread_local std::vector<double> distances2;
     tree.SearchRadius(points[i], radius, found, distances2);
     auto& list = lists[i];
     list.reserve(found.size());
