@@ -1,4 +1,5 @@
 // `planeloc eval`: trajectory error against ground truth, identical to evo (see docs/eval.md).
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -63,9 +64,9 @@ std::filesystem::path FindPlotScript() {
       "run planeloc from its build tree or set PLANELOC_TOOLS_DIR to the tools folder");
 }
 
-// Runs `argv` with MPLBACKEND=Agg (no display needed); returns the exit code, 127 if python3
-// cannot be started.
-int RunWithAggBackend(const std::vector<std::string>& argv) {
+// Runs `argv` with MPLBACKEND=Agg (no display needed), output discarded when `quiet`; returns the
+// exit code, 127 if the program cannot be started.
+int RunWithAggBackend(const std::vector<std::string>& argv, bool quiet) {
   std::vector<std::string> env_strings;
   for (char** e = environ; *e != nullptr; ++e) {
     if (std::strncmp(*e, "MPLBACKEND=", 11) != 0) env_strings.emplace_back(*e);
@@ -79,8 +80,16 @@ int RunWithAggBackend(const std::vector<std::string>& argv) {
   for (auto& s : args) c_args.push_back(s.data());
   c_args.push_back(nullptr);
   std::fflush(stdout);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (quiet) {
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  }
   pid_t pid = 0;
-  if (posix_spawnp(&pid, c_args[0], nullptr, nullptr, c_args.data(), env.data()) != 0) return 127;
+  const int spawned = posix_spawnp(&pid, c_args[0], &actions, nullptr, c_args.data(), env.data());
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return 127;
   int status = 0;
   while (waitpid(pid, &status, 0) < 0) {
     if (errno != EINTR) return 127;
@@ -103,8 +112,25 @@ void WritePlot(const EvalArgs& args, const EvalInputs& inputs, const EvalOptions
                                         std::filesystem::path(args.est).filename().string(),
                                         std::filesystem::path(args.gt).filename().string(),
                                         ToString(report.ape.alignment.type), report.ape.stats.rmse);
-  const int code = RunWithAggBackend({"python3", script.string(), "--csv", csv.string(), "--out",
-                                      args.plot, "--plane", plane, "--title", title});
+  // The first python that imports matplotlib wins: a pyenv/venv `python3` on PATH often lacks it
+  // while Debian's /usr/bin/python3 has python3-matplotlib. Probes are silent.
+  std::vector<std::string> pythons = {"python3", "/usr/bin/python3"};
+  if (const char* python = std::getenv("PLANELOC_PYTHON")) pythons.insert(pythons.begin(), python);
+  int code = 127;
+  std::string chosen;
+  for (const std::string& python : pythons) {
+    const int probe = RunWithAggBackend({python, "-c", "import matplotlib"}, /*quiet=*/true);
+    if (probe == 0) {
+      chosen = python;
+      break;
+    }
+    if (probe != 127) code = 3;  // python found, matplotlib missing
+  }
+  if (!chosen.empty()) {
+    code = RunWithAggBackend({chosen, script.string(), "--csv", csv.string(), "--out", args.plot,
+                              "--plane", plane, "--title", title},
+                             /*quiet=*/false);
+  }
   if (code == 127) {
     throw InputError(args.plot, "--plot needs python3, which was not found",
                      "install python3 and python3-matplotlib (./scripts/setup.sh) or drop --plot");
