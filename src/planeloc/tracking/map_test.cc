@@ -194,12 +194,17 @@ TEST(LocalMappingTest, WindowFixesAnchorsAndGauge) {
   result.usable = true;
   for (const WindowPoint& p : problem.points) result.point_in_world[p.id] = p.point_in_world;
   result.observation_inlier.assign(problem.observations.size(), true);
-  result.observation_inlier[0] = false;
+  std::size_t outlier = 0;  // an observation of a point that other keyframes also see
+  while (map.point(problem.observations[outlier].point_id).observations.size() < 2) ++outlier;
+  result.observation_inlier[outlier] = false;
   const BaApplyStats stats = ApplyWindowBa(map, problem, result, camera);
   EXPECT_EQ(stats.removed_observations, 1);
   EXPECT_LT(stats.median_reprojection_px, 1e-3);
-  EXPECT_FALSE(map.point(problem.observations[0].point_id)
-                   .observations.count(problem.observations[0].keyframe_id));
+  const WindowObservation& removed = problem.observations[outlier];
+  EXPECT_FALSE(map.point(removed.point_id).observations.count(removed.keyframe_id));
+  EXPECT_EQ(map.keyframe(removed.keyframe_id)
+                .map_point_ids[map.point(removed.point_id).observations.begin()->second],
+            -1);
 }
 
 TEST(LocalMappingTest, CullsPointsNotSeenAgain) {
