@@ -4,6 +4,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include <ctime>
 #include <memory>
 
 #include "planeloc/sim/raycast.h"
@@ -11,6 +12,7 @@
 #include "planeloc/sim/shading.h"
 #include "planeloc/sim/simulator.h"
 #include "planeloc/sim/texture.h"
+#include "planeloc/util/temp_dir.h"
 
 namespace {
 
@@ -49,17 +51,19 @@ void BM_RenderView(benchmark::State& state) {
   const Lighting lighting = state.range(1) ? Lighting::kChanging : Lighting::kConstant;
   Fixture& f = Get(lighting);
   int i = 0;
+  const std::clock_t cpu_start = std::clock();
   for (auto _ : state) {
     const FrameLighting light = LightingForFrame(lighting, 1, i);
     benchmark::DoNotOptimize(
         RenderView(*f.scene, *f.shader, Kitti07Camera(), PoseAt(f, i), light, 1u + i));
     ++i;
   }
-  state.counters["rays_per_s"] =
-      benchmark::Counter(1226.0 * 370 * 4 * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["process_cpu_ms"] =
+      1e3 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC / state.iterations();
 }
 BENCHMARK(BM_RenderView)
     ->Args({1, 0})
+    ->Args({1, 1})
     ->Args({2, 0})
     ->Args({2, 1})
     ->Unit(benchmark::kMillisecond)
@@ -70,12 +74,15 @@ void BM_LidarScan(benchmark::State& state) {
   Fixture& f = Get(Lighting::kConstant);
   int i = 0;
   std::size_t points = 0;
+  const std::clock_t cpu_start = std::clock();
   for (auto _ : state) {
     const auto scan = ScanLidar(*f.scene, *f.shader, PoseAt(f, i) * Kitti07CamFromVelo(), 1u + i);
     points += scan.points.size();
     ++i;
   }
   state.counters["points"] = static_cast<double>(points) / state.iterations();
+  state.counters["process_cpu_ms"] =
+      1e3 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC / state.iterations();
 }
 BENCHMARK(BM_LidarScan)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -88,6 +95,28 @@ void BM_Setup(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Setup)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// End to end: GenerateSequence of the first N kitti07-like frames (set-up, two views, one scan,
+// PNG and .bin writing) with 1 or 2 threads; per-frame time = (total - set-up) / N.
+void BM_GenerateKitti07Like(benchmark::State& state) {
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, state.range(0));
+  SimOptions options = SimOptions::FromPreset("kitti07-like");
+  options.frames = static_cast<int>(state.range(1));
+  options.show_progress = false;
+  const std::clock_t cpu_start = std::clock();  // process CPU time: all threads
+  for (auto _ : state) {
+    TempDir dir("planeloc-sim-bench");
+    benchmark::DoNotOptimize(GenerateSequence(options, dir.path()).frames);
+  }
+  const double cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  state.counters["frames"] = static_cast<double>(state.range(1));
+  state.counters["process_cpu_s"] = cpu / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_GenerateKitti07Like)
+    ->Args({2, 40})
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 }  // namespace
 

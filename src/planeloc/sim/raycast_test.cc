@@ -66,7 +66,7 @@ TEST(RaycastTest, BvhAgreesWithBruteForce) {
   const Scene scene(world);
   std::uniform_real_distribution<float> angle(-3.14159f, 3.14159f), pitch(-0.4f, 0.3f);
   int hits = 0;
-  for (int k = 0; k < 20000; ++k) {
+  for (int k = 0; k < 6000; ++k) {
     const float a = angle(rng), p = pitch(rng);
     const Eigen::Vector3f dir(std::cos(p) * std::cos(a), std::cos(p) * std::sin(a), std::sin(p));
     const Eigen::Vector3f origin(u(rng) * 0.5f, u(rng) * 0.5f, 1.7f);
@@ -82,7 +82,7 @@ TEST(RaycastTest, BvhAgreesWithBruteForce) {
     EXPECT_LT(world.DistanceToSurface(point), 1e-3) << "ray " << k;
     if (k % 100 != 0) continue;
   }
-  EXPECT_GT(hits, 10000);
+  EXPECT_GT(hits, 3000);
 }
 
 }  // namespace
