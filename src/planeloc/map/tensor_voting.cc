@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -209,25 +210,41 @@ Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, doub
   for (std::size_t i = 0; i < points.size(); ++i)
     data.col(static_cast<Eigen::Index>(i)) = points[i];
   const open3d::geometry::KDTreeFlann tree(data);
-  std::vector<std::vector<std::int32_t>> lists(points.size());
-  ParallelFor(points.size(), [&](std::size_t i) {
-    // Reused per thread: the search would otherwise allocate twice per point.
-    thread_local std::vector<int> found;
-    thread_local std::vector<double> distances2;
-    tree.SearchRadius(points[i], radius, found, distances2);
-    auto& list = lists[i];
-    list.reserve(found.size());
-    for (const int j : found) {
-      if (static_cast<std::size_t>(j) != i) list.push_back(j);
+  // Fixed blocks of consecutive points, each filling its own contiguous list: no per-point
+  // allocation, and the concatenation in block order is independent of the thread schedule.
+  const std::size_t n = points.size();
+  const std::size_t blocks = std::max<std::size_t>(1, n / 2048);
+  std::vector<std::vector<std::int32_t>> block_indices(blocks);
+  std::vector<std::vector<std::int64_t>> block_counts(blocks);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
+    std::vector<int> found;
+    std::vector<double> distances2;
+    auto& indices = block_indices[block];
+    auto& counts = block_counts[block];
+    for (std::size_t i = n * block / blocks; i < n * (block + 1) / blocks; ++i) {
+      tree.SearchRadius(points[i], radius, found, distances2);
+      std::int64_t count = 0;
+      for (const int j : found) {
+        if (static_cast<std::size_t>(j) == i) continue;
+        indices.push_back(j);
+        ++count;
+      }
+      counts.push_back(count);
     }
   });
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    hoods.offsets[i + 1] = hoods.offsets[i] + static_cast<std::int64_t>(lists[i].size());
+  std::size_t i = 0;
+  for (std::size_t block = 0; block < blocks; ++block) {
+    for (const std::int64_t count : block_counts[block]) {
+      hoods.offsets[i + 1] = hoods.offsets[i] + count;
+      ++i;
+    }
   }
   hoods.indices.resize(static_cast<std::size_t>(hoods.offsets.back()));
-  ParallelFor(points.size(), [&](std::size_t i) {
-    std::copy(lists[i].begin(), lists[i].end(), hoods.indices.begin() + hoods.offsets[i]);
-    std::vector<std::int32_t>().swap(lists[i]);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
+    const auto first = hoods.offsets[n * block / blocks];
+    std::copy(block_indices[block].begin(), block_indices[block].end(),
+              hoods.indices.begin() + first);
+    std::vector<std::int32_t>().swap(block_indices[block]);
   });
   return hoods;
 }
