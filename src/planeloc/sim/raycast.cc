@@ -205,10 +205,14 @@ bool Scene::HitPrimitive(const PrimRef& ref, const Eigen::Vector3f& origin,
 
 template <bool kAnyHit>
 bool Scene::Traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max,
-                     Hit* hit) const {
+                     Hit* hit, const Hit* hint) const {
   bool found = false;
   float t_best = t_max;
   Hit scratch;
+  if (hint != nullptr && HitPrimitive({hint->kind, hint->index}, origin, dir, t_best, &scratch)) {
+    if (kAnyHit) return true;
+    *hit = scratch, t_best = scratch.t, found = true;
+  }
   for (const PrimRef& ref : unbounded_) {
     if (HitPrimitive(ref, origin, dir, t_best, &scratch)) {
       if (kAnyHit) return true;
@@ -266,8 +270,8 @@ bool Scene::Traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, 
 }
 
 bool Scene::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max,
-                      Hit* hit) const {
-  return Traverse<false>(origin, dir, t_max, hit);
+                      Hit* hit, const Hit* hint) const {
+  return Traverse<false>(origin, dir, t_max, hit, hint);
 }
 
 bool Scene::IntersectLinear(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max,
@@ -285,7 +289,7 @@ bool Scene::IntersectLinear(const Eigen::Vector3f& origin, const Eigen::Vector3f
 
 bool Scene::Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max) const {
   Hit scratch;
-  return Traverse<true>(origin, dir, t_max, &scratch);
+  return Traverse<true>(origin, dir, t_max, &scratch, nullptr);
 }
 
 }  // namespace planeloc::sim

@@ -115,9 +115,11 @@ cv::Mat RenderView(const Scene& scene, const Shader& shader, const StereoCamera&
   std::vector<std::int64_t> key(centre.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
+      const Hit* hint = nullptr;  // the previous pixel's surface, usually this one's too
       for (int x = 0; x < width; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * width + x;
-        key[i] = HitKey(scene.Intersect(origin, ray(x, y), 1e4f, &centre[i]), centre[i]);
+        key[i] = HitKey(scene.Intersect(origin, ray(x, y), 1e4f, &centre[i], hint), centre[i]);
+        hint = key[i] < 0 ? nullptr : &centre[i];
       }
     }
   });
