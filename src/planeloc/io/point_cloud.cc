@@ -58,6 +58,12 @@ void CheckPcdHeader(const std::filesystem::path& path) {
       CheckInput(xyz[0] && xyz[1] && xyz[2], path.string(), line_number,
                  "the .pcd has no x, y and z fields", "write the point coordinates as x y z");
     }
+    if (key == "POINTS") {
+      long long count = -1;
+      tokens >> count;
+      CheckInput(count != 0, path.string(), line_number, "the point cloud is empty (0 points)",
+                 "give a map with points (e.g. from `planeloc map build`)");
+    }
     if (key == "DATA") break;
   }
   CheckInput(has_fields, path.string(), 0, "not a .pcd file (no FIELDS line in the header)",

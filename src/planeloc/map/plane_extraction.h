@@ -37,7 +37,7 @@ struct PlaneExtractionOptions {
   double max_rms = 0.05;           // metres, rougher "planes" (hedges, foliage) are rejected
   // Up direction of the map frame, for the "ground" / "facade" kind and normal orientation.
   // KITTI maps (camera-0 world frame, y down): (0, -1, 0); a raw Velodyne scan: (0, 0, 1).
-  Eigen::Vector3d up = -Eigen::Vector3d::UnitY();
+  Eigen::Vector3d up = Eigen::Vector3d(0.0, -1.0, 0.0);
   double kind_angle_deg = 10.0;  // normal within this of up = ground, of horizontal = facade
 
   void Check() const;  // throws OptionsError naming the field
