@@ -14,8 +14,8 @@ namespace planeloc {
 
 struct StereoCamera {
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels
-  double baseline = 0;                   // metres, > 0: right camera at +baseline along x
-  int width = 0, height = 0;             // pixels
+  double baseline = 0;                    // metres, > 0: right camera at +baseline along x
+  int width = 0, height = 0;              // pixels
 
   // From rectified 3x4 projection matrices of the left and right camera. The left matrix may
   // carry its own x offset (KITTI P2/P3 do); only the relative offset defines the baseline.

@@ -14,7 +14,8 @@ namespace {
 
 Rigid3d RandomTransform(std::mt19937& rng, double max_angle = 3.0) {
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  const Eigen::Vector3d axis = Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)).normalized();
+  const Eigen::Vector3d axis =
+      Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)).normalized();
   const double angle = max_angle * std::abs(uniform(rng));
   return Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis)),
                  Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)) * 10.0);
@@ -71,9 +72,9 @@ TEST(Lie, Se3RoundTrip) {
 
 TEST(Lie, InverseLeftJacobian) {
   const Eigen::Vector3d omega(0.4, 0.1, -0.7);
-  EXPECT_LT((LeftJacobianSO3(omega) * InverseLeftJacobianSO3(omega) -
-             Eigen::Matrix3d::Identity()).norm(),
-            1e-12);
+  EXPECT_LT(
+      (LeftJacobianSO3(omega) * InverseLeftJacobianSO3(omega) - Eigen::Matrix3d::Identity()).norm(),
+      1e-12);
 }
 
 Eigen::Matrix<double, 3, 4> KittiProjection(double fx, double cx, double cy, double tx) {
@@ -120,9 +121,9 @@ TEST(Plane, FitTransformAndDistance) {
   const Plane in_b = truth.Transformed(b_from_a);
   for (const auto& p : points) EXPECT_NEAR(in_b.SignedDistance(b_from_a * p), 0.0, 1e-9);
   EXPECT_NEAR(truth.AngleTo(truth.Flipped()), 0.0, 1e-12);
-  EXPECT_THROW(Plane::Fit({Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(),
-                           Eigen::Vector3d(2, 0, 0)}),
-               std::invalid_argument);
+  EXPECT_THROW(
+      Plane::Fit({Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), Eigen::Vector3d(2, 0, 0)}),
+      std::invalid_argument);
 }
 
 }  // namespace

@@ -47,8 +47,7 @@ Eigen::Matrix3d InverseLeftJacobianSO3(const Eigen::Vector3d& omega) {
   const Eigen::Matrix3d k = Hat(omega);
   if (theta < kSmallAngle) return Eigen::Matrix3d::Identity() - 0.5 * k + k * k / 12.0;
   const double t2 = theta * theta;
-  const double coefficient =
-      1.0 / t2 - (1.0 + std::cos(theta)) / (2.0 * theta * std::sin(theta));
+  const double coefficient = 1.0 / t2 - (1.0 + std::cos(theta)) / (2.0 * theta * std::sin(theta));
   return Eigen::Matrix3d::Identity() - 0.5 * k + coefficient * k * k;
 }
 

@@ -11,7 +11,7 @@ namespace planeloc {
 
 struct Plane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit
-  double d = 0.0;                                      // metres
+  double d = 0.0;                                     // metres
 
   Plane() = default;
   // Normalizes (normal, d) jointly; throws std::invalid_argument for a zero normal.

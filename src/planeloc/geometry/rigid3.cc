@@ -9,9 +9,7 @@ Rigid3d Rigid3d::FromMatrix3x4(const Eigen::Matrix<double, 3, 4>& m) {
   return Rigid3d(Eigen::Matrix3d(m.leftCols<3>()), Eigen::Vector3d(m.col(3)));
 }
 
-Rigid3d Rigid3d::FromMatrix4d(const Eigen::Matrix4d& m) {
-  return FromMatrix3x4(m.topRows<3>());
-}
+Rigid3d Rigid3d::FromMatrix4d(const Eigen::Matrix4d& m) { return FromMatrix3x4(m.topRows<3>()); }
 
 Eigen::Matrix<double, 3, 4> Rigid3d::Matrix3x4() const {
   Eigen::Matrix<double, 3, 4> m;

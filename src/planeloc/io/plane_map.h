@@ -20,8 +20,8 @@ struct MapPlane {
   std::string kind;  // "ground" | "facade" | "other" | "" (unknown)
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   int inliers = 0;
-  double rms = 0.0;   // metres, RMS point-to-plane distance of the inliers
-  double area = 0.0;  // square metres of the polygon
+  double rms = 0.0;                      // metres, RMS point-to-plane distance of the inliers
+  double area = 0.0;                     // square metres of the polygon
   std::vector<Eigen::Vector3d> polygon;  // outline in map coordinates, on the plane
 };
 

@@ -1,10 +1,10 @@
 // Typed errors thrown by the planeloc library and caught at the CLI boundary (apps/main.cc).
 //
-// InputError: the user's input is wrong (missing file, bad number, corrupt image, wrong calibration,
-// empty map, ...). It names the file, the 1-based line when there is one, what is wrong and how to
-// fix it. The CLI prints it as one message and exits with code 2.
-// Anything else (std::logic_error, std::runtime_error) is an internal error: exit code 1.
-// The library never calls exit().
+// InputError: the user's input is wrong (missing file, bad number, corrupt image, wrong
+// calibration, empty map, ...). It names the file, the 1-based line when there is one, what is
+// wrong and how to fix it. The CLI prints it as one message and exits with code 2. Anything else
+// (std::logic_error, std::runtime_error) is an internal error: exit code 1. The library never calls
+// exit().
 #pragma once
 
 #include <stdexcept>

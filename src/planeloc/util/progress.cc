@@ -44,9 +44,9 @@ void ProgressBar::Draw() {
   const double rate = seconds > 0 ? done_ / seconds : 0.0;
   std::string bar(filled, '#');
   bar.resize(kWidth, '.');
-  std::fputs(fmt::format("\r{} [{}] {}/{} {:.1f} {}/s", label_, bar, done_, total_, rate, unit_)
-                 .c_str(),
-             stderr);
+  std::fputs(
+      fmt::format("\r{} [{}] {}/{} {:.1f} {}/s", label_, bar, done_, total_, rate, unit_).c_str(),
+      stderr);
   std::fflush(stderr);
 }
 

@@ -32,15 +32,15 @@ inline bool SharedDataRequired() {
 }  // namespace planeloc::testing
 
 // `relative` is a path below the shared data root; binds `var` to the full path.
-#define PLANELOC_SHARED_DATA_OR_SKIP(var, relative)                                            \
-  const std::filesystem::path var = ::planeloc::testing::SharedDataDir() / (relative);         \
-  do {                                                                                         \
-    if (!std::filesystem::exists(var)) {                                                       \
-      if (::planeloc::testing::SharedDataRequired()) {                                         \
-        FAIL() << "shared data missing: " << var                                               \
-               << " (PLANELOC_REQUIRE_SHARED_DATA=1; put the KITTI data in ../shared/data)";   \
-      }                                                                                        \
-      GTEST_SKIP() << "shared data not found at " << var                                       \
+#define PLANELOC_SHARED_DATA_OR_SKIP(var, relative)                                                \
+  const std::filesystem::path var = ::planeloc::testing::SharedDataDir() / (relative);             \
+  do {                                                                                             \
+    if (!std::filesystem::exists(var)) {                                                           \
+      if (::planeloc::testing::SharedDataRequired()) {                                             \
+        FAIL() << "shared data missing: " << var                                                   \
+               << " (PLANELOC_REQUIRE_SHARED_DATA=1; put the KITTI data in ../shared/data)";       \
+      }                                                                                            \
+      GTEST_SKIP() << "shared data not found at " << var                                           \
                    << "; set PLANELOC_SHARED_DATA or place it in ../shared/data to run this test"; \
-    }                                                                                          \
+    }                                                                                              \
   } while (0)
