@@ -220,16 +220,19 @@ bool Scene::Traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, 
     }
   }
   if (nodes_.empty()) return found;
+  // Slab test with the near/far plane of each axis chosen once per ray by the direction's sign.
   float inv[3], org[3];
+  bool negative[3];
   for (int k = 0; k < 3; ++k) {
     inv[k] = 1.0f / dir[k];  // +-inf for axis-parallel rays; the slab test copes
     org[k] = origin[k];
+    negative[k] = std::signbit(inv[k]);
   }
   auto enter = [&](const Node& node) {
     float t0 = kTMin, t1 = t_best;
     for (int k = 0; k < 3; ++k) {
-      float a = (node.lo[k] - org[k]) * inv[k], b = (node.hi[k] - org[k]) * inv[k];
-      if (a > b) std::swap(a, b);
+      const float a = ((negative[k] ? node.hi[k] : node.lo[k]) - org[k]) * inv[k];
+      const float b = ((negative[k] ? node.lo[k] : node.hi[k]) - org[k]) * inv[k];
       t0 = a > t0 ? a : t0;  // NaN-safe ordering (0 * inf) keeps the old bound
       t1 = b < t1 ? b : t1;
     }
