@@ -99,13 +99,13 @@ struct SymAccumulator {
 };
 
 // Pass 1: unoriented voters cast (l^2 I - v v^T) w(l) / sigma^2 (see the header).
-Eigen::Matrix3d BallTensor(const std::vector<Eigen::Vector3d>& points, const Neighborhoods& hoods,
-                           std::size_t votee, double inv_sigma2) {
+Eigen::Matrix3d BallTensor(const std::vector<Eigen::Vector3d>& points, const std::int32_t* begin,
+                           const std::int32_t* end, std::size_t votee, double inv_sigma2) {
   const NegExpTable& neg_exp = NegExp();
   SymAccumulator tensor;
   const Eigen::Vector3d& x = points[votee];
-  for (std::int64_t k = hoods.begin(votee); k < hoods.end(votee); ++k) {
-    const Eigen::Vector3d v = x - points[hoods.indices[k]];
+  for (const std::int32_t* k = begin; k != end; ++k) {
+    const Eigen::Vector3d v = x - points[*k];
     const double l2 = v.squaredNorm();
     const double w = neg_exp(l2 * inv_sigma2) * inv_sigma2;
     tensor.AddOuter(-w, v);
@@ -201,14 +201,21 @@ SaliencyClass ClassifySaliency(double l1, double l2, double l3) {
   return SaliencyClass::kJunction;
 }
 
-Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius) {
+namespace {
+
+// Radius search of every point; `visit(i, begin, end)` sees point i's neighbours while they are
+// still in cache (used to fuse the ball pass into the search).
+template <typename Visit>
+Neighborhoods SearchNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius,
+                                  Visit&& visit) {
   Neighborhoods hoods;
   hoods.radius = radius;
   hoods.offsets.assign(points.size() + 1, 0);
   if (points.empty()) return hoods;
   Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i)
+  for (std::size_t i = 0; i < points.size(); ++i) {
     data.col(static_cast<Eigen::Index>(i)) = points[i];
+  }
   const open3d::geometry::KDTreeFlann tree(data);
   // Fixed blocks of consecutive points, each filling its own contiguous list: no per-point
   // allocation, and the concatenation in block order is independent of the thread schedule.
@@ -223,13 +230,12 @@ Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, doub
     auto& counts = block_counts[block];
     for (std::size_t i = n * block / blocks; i < n * (block + 1) / blocks; ++i) {
       tree.SearchRadius(points[i], radius, found, distances2);
-      std::int64_t count = 0;
+      const std::size_t first = indices.size();
       for (const int j : found) {
-        if (static_cast<std::size_t>(j) == i) continue;
-        indices.push_back(j);
-        ++count;
+        if (static_cast<std::size_t>(j) != i) indices.push_back(j);
       }
-      counts.push_back(count);
+      counts.push_back(static_cast<std::int64_t>(indices.size() - first));
+      visit(i, indices.data() + first, indices.data() + indices.size());
     }
   });
   std::size_t i = 0;
@@ -249,10 +255,51 @@ Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, doub
   return hoods;
 }
 
+TensorVotingResult EmptyResult(std::size_t n) {
+  TensorVotingResult result;
+  result.normals.assign(n, Eigen::Vector3d::UnitZ());
+  result.stick.assign(n, 0.0f);
+  result.plate.assign(n, 0.0f);
+  result.ball.assign(n, 0.0f);
+  result.classes.assign(n, SaliencyClass::kJunction);
+  return result;
+}
+
+void StickPasses(const std::vector<Eigen::Vector3d>& points, const TensorVotingOptions& options,
+                 const Neighborhoods& neighborhoods, TensorVotingResult& result) {
+  for (int pass = 0; pass < options.stick_passes; ++pass) {
+    // Votes read the previous pass only, so the pass is order-independent.
+    const std::vector<Eigen::Vector3d> normals = result.normals;
+    const std::vector<float> stick = result.stick;
+    const std::vector<float> ball = result.ball;
+    ParallelFor(points.size(), [&](std::size_t i) {
+      Store(Decompose(StickTensor(points, neighborhoods, normals, stick, ball, i, options)), i,
+            result);
+    });
+  }
+}
+
+}  // namespace
+
+Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius) {
+  return SearchNeighborhoods(points, radius,
+                             [](std::size_t, const std::int32_t*, const std::int32_t*) {});
+}
+
 TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
                                    const TensorVotingOptions& options) {
   options.Check();
-  return RunTensorVoting(points, options, FindNeighborhoods(points, options.radius()));
+  // The ball pass runs inside the search (same votes, same order as the unfused overload).
+  TensorVotingResult result = EmptyResult(points.size());
+  const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
+  Neighborhoods neighborhoods = SearchNeighborhoods(
+      points, options.radius(),
+      [&](std::size_t i, const std::int32_t* begin, const std::int32_t* end) {
+        Store(Decompose(BallTensor(points, begin, end, i, inv_sigma2)), i, result);
+      });
+  StickPasses(points, options, neighborhoods, result);
+  result.neighborhoods = std::move(neighborhoods);
+  return result;
 }
 
 TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
@@ -262,27 +309,15 @@ TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
   if (neighborhoods.size() != points.size()) {
     throw std::invalid_argument("RunTensorVoting: neighbourhoods do not match the points");
   }
-  const std::size_t n = points.size();
-  TensorVotingResult result;
-  result.normals.assign(n, Eigen::Vector3d::UnitZ());
-  result.stick.assign(n, 0.0f);
-  result.plate.assign(n, 0.0f);
-  result.ball.assign(n, 0.0f);
-  result.classes.assign(n, SaliencyClass::kJunction);
+  TensorVotingResult result = EmptyResult(points.size());
   const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
-  ParallelFor(n, [&](std::size_t i) {
-    Store(Decompose(BallTensor(points, neighborhoods, i, inv_sigma2)), i, result);
+  ParallelFor(points.size(), [&](std::size_t i) {
+    const std::int32_t* base = neighborhoods.indices.data();
+    Store(Decompose(BallTensor(points, base + neighborhoods.begin(i), base + neighborhoods.end(i),
+                               i, inv_sigma2)),
+          i, result);
   });
-  for (int pass = 0; pass < options.stick_passes; ++pass) {
-    // Votes read the previous pass only, so the pass is order-independent.
-    const std::vector<Eigen::Vector3d> normals = result.normals;
-    const std::vector<float> stick = result.stick;
-    const std::vector<float> ball = result.ball;
-    ParallelFor(n, [&](std::size_t i) {
-      Store(Decompose(StickTensor(points, neighborhoods, normals, stick, ball, i, options)), i,
-            result);
-    });
-  }
+  StickPasses(points, options, neighborhoods, result);
   result.neighborhoods = std::move(neighborhoods);
   return result;
 }

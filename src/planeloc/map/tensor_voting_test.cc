@@ -131,5 +131,19 @@ TEST(TensorVotingTest, IsolatedPointIsJunctionAndRunsAreIdentical) {
   }
 }
 
+TEST(TensorVotingTest, FusedSearchEqualsGivenNeighborhoods) {
+  const auto scene = SceneBuilder::StreetCorner(0.3, 0.02, 13);
+  const TensorVotingOptions options;
+  const TensorVotingResult fused = RunTensorVoting(scene.points, options);
+  const TensorVotingResult split =
+      RunTensorVoting(scene.points, options, FindNeighborhoods(scene.points, options.radius()));
+  ASSERT_EQ(fused.size(), split.size());
+  EXPECT_EQ(fused.neighborhoods.indices, split.neighborhoods.indices);
+  for (std::size_t i = 0; i < fused.size(); ++i) {
+    ASSERT_EQ(fused.normals[i], split.normals[i]) << i;
+    ASSERT_EQ(fused.ball[i], split.ball[i]) << i;
+  }
+}
+
 }  // namespace
 }  // namespace planeloc
