@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "planeloc/sim/world.h"
@@ -33,6 +34,11 @@ class Scene {
   // True if anything is hit with t in (t_min, t_max) (shadow rays).
   bool Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max) const;
 
+  // The ray against one primitive only (e.g. the one a previous query reported).
+  bool IntersectOne(PrimitiveKind kind, std::uint32_t index, const Eigen::Vector3f& origin,
+                    const Eigen::Vector3f& dir, Hit* hit) const {
+    return HitPrimitive({kind, index}, origin, dir, std::numeric_limits<float>::infinity(), hit);
+  }
   // The same query testing every primitive without the tree (reference for tests).
   bool IntersectLinear(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max,
                        Hit* hit) const;

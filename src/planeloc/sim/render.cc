@@ -110,16 +110,20 @@ cv::Mat RenderView(const Scene& scene, const Shader& shader, const StereoCamera&
         rotation * Eigen::Vector3f((px - cx) * inv_fx, (py - cy) * inv_fy, 1.0f).normalized());
   };
   const RayShader tracer{scene, shader, light};
-  // Pass 1: one ray through every pixel centre.
-  std::vector<Hit> centre(static_cast<std::size_t>(width) * height);
-  std::vector<std::int64_t> key(centre.size());
+  // Pass 1: one ray through every pixel centre; only what it hit is kept (8 bytes a pixel).
+  std::vector<std::int64_t> key(static_cast<std::size_t>(width) * height);
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
-      const Hit* hint = nullptr;  // the previous pixel's surface, usually this one's too
+      Hit previous;
+      bool hinted = false;  // the previous pixel's surface, usually this one's too
       for (int x = 0; x < width; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * width + x;
-        key[i] = HitKey(scene.Intersect(origin, ray(x, y), 1e4f, &centre[i], hint), centre[i]);
-        hint = key[i] < 0 ? nullptr : &centre[i];
+        Hit hit;
+        const bool found =
+            scene.Intersect(origin, ray(x, y), 1e4f, &hit, hinted ? &previous : nullptr);
+        key[i] = HitKey(found, hit);
+        hinted = found;
+        if (found) previous = hit;
       }
     }
   });
@@ -142,9 +146,14 @@ cv::Mat RenderView(const Scene& scene, const Shader& shader, const StereoCamera&
                     (y == 0 || key[i - width] == k) && (y + 1 == height || key[i + width] == k);
         }
         float radiance = 0.0f;
-        if (uniform) {
-          const Eigen::Vector3f dir = ray(x, y);
-          radiance = key[i] < 0 ? Sky(dir) : tracer.Surface(centre[i], origin, dir, inv_fx);
+        Hit hit;
+        const Eigen::Vector3f dir = ray(x, y);
+        if (uniform && key[i] < 0) {
+          radiance = Sky(dir);
+        } else if (uniform &&
+                   scene.IntersectOne(static_cast<PrimitiveKind>(key[i] >> 32),
+                                      static_cast<std::uint32_t>(key[i]), origin, dir, &hit)) {
+          radiance = tracer.Surface(hit, origin, dir, inv_fx);
         } else {
           for (int sy = 0; sy < ss; ++sy) {
             for (int sx = 0; sx < ss; ++sx) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <sstream>
 
 #include "planeloc/sim/raycast.h"
@@ -294,7 +295,9 @@ SimResult GenerateSequence(const SimOptions& options, const fs::path& out_dir, b
   const Shader shader(scenario.world, bank);
   const Rigid3d left_from_right(Eigen::Quaterniond::Identity(),
                                 Eigen::Vector3d(result.camera.baseline, 0, 0));
-  ProgressBar progress("sim", static_cast<std::size_t>(result.frames), "frames");
+  std::optional<ProgressBar> progress;  // none at all when disabled (not even a final line)
+  if (options.show_progress)
+    progress.emplace("sim", static_cast<std::size_t>(result.frames), "frames");
   // Frames in batches: threads render whole frames (and their rows) while the main thread alone
   // drives the progress bar. Every random stream is seeded per frame, so order does not matter.
   const int batch = std::max(2, 2 * tbb::this_task_arena::max_concurrency());
@@ -320,9 +323,9 @@ SimResult GenerateSequence(const SimOptions& options, const fs::path& out_dir, b
                  "check free disk space and permissions");
       WriteScan(result.sequence_dir / "velodyne" / FrameName(f, "bin"), scan);
     });
-    if (options.show_progress) progress.Update(static_cast<std::size_t>(last));
+    if (progress) progress->Update(static_cast<std::size_t>(last));
   }
-  progress.Finish();
+  if (progress) progress->Finish();
   return result;
 }
 
