@@ -146,6 +146,8 @@ BaApplyStats ApplyWindowBa(SparseMap& map, const WindowProblem& problem,
       ++stats.removed_observations;
       continue;
     }
+    // A point seen by one keyframe fits its stereo measurement exactly: not informative.
+    if (point.observations.size() < 2) continue;
     const Eigen::Vector3d in_cam =
         map.keyframe(obs.keyframe_id).cam_from_world * point.point_in_world;
     const auto projected = camera.ProjectStereo(in_cam);

@@ -36,7 +36,7 @@ struct BaApplyStats {
   int keyframes = 0;                  // poses updated
   int points = 0;                     // positions updated
   int removed_observations = 0;       // outliers unlinked
-  double median_reprojection_px = 0;  // over inlier stereo/mono observations, after BA
+  double median_reprojection_px = 0;  // inliers of points seen twice or more
 };
 
 // Writes the solution back by id (ids that no longer exist are skipped) and unlinks outlier

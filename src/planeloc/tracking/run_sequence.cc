@@ -117,15 +117,19 @@ RunSummary RunSequence(const RunOptions& run) {
   if (run.show_progress) progress.emplace("run", total, "frames");
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < total; ++i) {
-    TrackResult result;
+    std::optional<StereoPair> pair;
     if (!sequence.HasFrame(i)) {
       spdlog::warn("frame {}: images missing ({}), pose from the motion model", i,
                    sequence.left_image_path(i).string());
-      result = tracker.SkipFrame(sequence.timestamp(i));
     } else {
-      const StereoPair pair = sequence.LoadStereoPair(i);
-      result = tracker.Track(pair.left, pair.right, sequence.timestamp(i));
+      try {
+        pair = sequence.LoadStereoPair(i);
+      } catch (const InputError& e) {
+        spdlog::warn("frame {}: {}; pose from the motion model", i, e.what());
+      }
     }
+    const TrackResult result = pair ? tracker.Track(pair->left, pair->right, sequence.timestamp(i))
+                                    : tracker.SkipFrame(sequence.timestamp(i));
     writer.Write(sequence.timestamp(i), result.world_from_cam);
     if (stats_out) *stats_out << result.stats.ToJson() << '\n' << std::flush;
     summary.stats.push_back(result.stats);

@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "planeloc/geometry/lie.h"
 #include "planeloc/optim/pose_optimizer.h"
 #include "planeloc/tracking/ba_worker.h"
 #include "planeloc/tracking/local_mapping.h"
@@ -74,23 +75,22 @@ TrackResult Tracker::Track(const cv::Mat& left, const cv::Mat& right, double tim
 
 Rigid3d Tracker::PredictPose() const {
   if (!last_frame_) return cam_from_world_initial_;
-  return velocity_ ? *velocity_ * last_frame_->cam_from_world : last_frame_->cam_from_world;
+  Rigid3d pose = last_frame_->cam_from_world;
+  if (velocity_) {
+    for (int k = 0; k <= frames_skipped_; ++k) pose = *velocity_ * pose;
+  }
+  return pose;
 }
 
 TrackResult Tracker::SkipFrame(double timestamp) {
+  (void)timestamp;  // the pose only depends on the frame count
   TrackResult result;
   result.stats.frame = next_frame_id_++;
   result.stats.skipped = true;
   result.stats.state = last_frame_ ? TrackingState::kTracking : TrackingState::kLost;
   const Rigid3d pose = PredictPose();
-  if (last_frame_) {
-    // The next frame predicts from this one: move the last frame along, without features.
-    last_frame_->cam_from_world = pose;
-    last_frame_->timestamp = timestamp;
-    if (map_.HasKeyframe(reference_keyframe_id_)) {
-      last_from_reference_ = pose * map_.keyframe(reference_keyframe_id_).cam_from_world.Inverse();
-    }
-  }
+  // The last frame stays the one with features; the next prediction steps once more.
+  if (last_frame_) ++frames_skipped_;
   result.world_from_cam = pose.Inverse();
   return result;
 }
@@ -122,7 +122,9 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   if (tracked) {
     stats.state = lost_before_ ? TrackingState::kRelocalized : TrackingState::kTracking;
     lost_before_ = false;
-    velocity_ = frame.cam_from_world * last_frame_->cam_from_world.Inverse();
+    // Per-frame velocity, also across skipped frames (the relative motion spread evenly).
+    const Rigid3d step = frame.cam_from_world * last_frame_->cam_from_world.Inverse();
+    velocity_ = frames_skipped_ == 0 ? step : ExpSE3(LogSE3(step) / (frames_skipped_ + 1));
     make_keyframe = NeedKeyframe(frame, stats.inliers);
   } else {
     // First frame, or loss: start (again) from this frame's stereo at the predicted pose.
@@ -148,6 +150,7 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   result.world_from_cam = frame.cam_from_world.Inverse();
   result.stats = stats;
   last_frame_ = std::move(frame);
+  frames_skipped_ = 0;
   return result;
 }
 

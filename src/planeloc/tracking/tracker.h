@@ -107,6 +107,7 @@ class Tracker {
   int last_keyframe_frame_id_ = 0;
   std::vector<int> recent_point_ids_;
   bool lost_before_ = false;
+  int frames_skipped_ = 0;  // frames without images since last_frame_
 };
 
 }  // namespace planeloc

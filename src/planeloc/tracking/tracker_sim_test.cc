@@ -6,9 +6,11 @@
 #include <memory>
 #include <sstream>
 
+#include "planeloc/io/kitti_sequence.h"
 #include "planeloc/io/trajectory.h"
 #include "planeloc/sim/simulator.h"
 #include "planeloc/tracking/run_sequence.h"
+#include "planeloc/tracking/tracker.h"
 #include "planeloc/util/temp_dir.h"
 
 namespace planeloc {
@@ -103,6 +105,28 @@ TEST_F(TrackerSimTest, DeterministicRunsAreBitIdentical) {
   const std::string a = ReadBytes(first.trajectory_path);
   ASSERT_FALSE(a.empty());
   EXPECT_EQ(a, ReadBytes(second.trajectory_path));
+}
+
+TEST_F(TrackerSimTest, SkippedFramesKeepTheMotionModel) {
+  const KittiSequence sequence = KittiSequence::Open(result_->sequence_dir);
+  TrackerOptions options;
+  options.deterministic = true;
+  Tracker tracker(sequence.camera(), options);
+  for (int i = 0; i < 20; ++i) {
+    TrackResult r;
+    if (i == 10 || i == 11) {
+      r = tracker.SkipFrame(sequence.timestamp(i));  // two frames without images
+      EXPECT_TRUE(r.stats.skipped);
+    } else {
+      const StereoPair pair = sequence.LoadStereoPair(i);
+      r = tracker.Track(pair.left, pair.right, sequence.timestamp(i));
+      EXPECT_NE(r.stats.state, TrackingState::kLost) << "frame " << i;
+    }
+    // Skipped frames are predicted within a few centimetres on this smooth drive.
+    EXPECT_LT((r.world_from_cam.translation - result_->world_from_cam[i].translation).norm(),
+              i == 10 || i == 11 ? 0.3 : 0.2)
+        << "frame " << i;
+  }
 }
 
 }  // namespace
