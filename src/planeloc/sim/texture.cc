@@ -264,8 +264,14 @@ TextureBank TextureBank::WithWallImages(std::uint32_t seed, const std::filesyste
   for (const auto& file : files) {
     const cv::Mat grey = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
     if (grey.empty()) continue;
-    cv::Mat resized, albedo;
-    cv::resize(grey, resized, cv::Size(1024, 1024), 0, 0, cv::INTER_AREA);
+    // A centred square crop keeps the photo's aspect; rows flip so the photo's bottom is at v = 0
+    // (texture v grows upwards on facades).
+    const int side = std::min(grey.cols, grey.rows);
+    const cv::Mat crop = grey(cv::Rect((grey.cols - side) / 2, (grey.rows - side) / 2, side, side));
+    cv::Mat flipped, resized, albedo;
+    cv::flip(crop, flipped, 0);
+    cv::resize(flipped, resized, cv::Size(1024, 1024), 0, 0,
+               side >= 1024 ? cv::INTER_AREA : cv::INTER_LINEAR);
     resized.convertTo(albedo, CV_32F, 1.0 / 255.0);
     bank.walls.emplace_back(albedo, 0.01f);
   }

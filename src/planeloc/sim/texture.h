@@ -48,8 +48,8 @@ struct TextureBank {
   // Fully determined by `seed` (independent of the thread count).
   static TextureBank Procedural(std::uint32_t seed);
   // Procedural bank whose walls are the images (png/jpg/jpeg/bmp, sorted by name) of `dir`,
-  // converted to grey and resampled to 1024x1024 texels of 1 cm. Throws InputError if the
-  // folder cannot be read or holds no decodable image.
+  // centre-cropped to a square, converted to grey and resampled to 1024x1024 texels of 1 cm. Throws
+  // InputError if the folder cannot be read or holds no decodable image.
   static TextureBank WithWallImages(std::uint32_t seed, const std::filesystem::path& dir);
 };
 
