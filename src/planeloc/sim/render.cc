@@ -18,6 +18,10 @@ constexpr float kPi = 3.14159265358979f;
 // Sky radiance: bright near the horizon, a little darker overhead (KITTI skies are near white).
 float Sky(const Eigen::Vector3f& dir) { return 0.98f - 0.22f * std::max(dir.z(), 0.0f); }
 
+// Nothing in the town is taller than 30 m, so a shadow ray that has climbed that high is free:
+// bounding it keeps shadow rays cheap.
+float ShadowReach(const Eigen::Vector3f& to_sun) { return 30.0f / std::max(to_sun.z(), 0.1f); }
+
 }  // namespace
 
 FrameLighting LightingForFrame(Lighting mode, std::uint32_t seed, int frame) {
@@ -73,7 +77,7 @@ struct RayShader {
     const float albedo = shader.Albedo(hit, point, footprint);
     float direct = std::max(hit.normal.dot(light.to_sun), 0.0f) * light.sun;
     if (light.shadows && direct > 0.0f &&
-        scene.Occluded(point + 0.02f * hit.normal, light.to_sun, 300.0f)) {
+        scene.Occluded(point + 0.02f * hit.normal, light.to_sun, ShadowReach(light.to_sun))) {
       direct = 0.0f;
     }
     return albedo * (light.ambient + direct);
