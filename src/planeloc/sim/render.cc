@@ -192,6 +192,8 @@ VelodyneScan ScanLidar(const Scene& scene, const Shader& shader, const Rigid3d& 
     const double el = elevation * M_PI / 180.0;
     VelodyneScan& out = per_beam[static_cast<std::size_t>(beam)];
     out.points.reserve(static_cast<std::size_t>(options.azimuth_steps));
+    Hit previous;
+    bool hinted = false;
     for (int step = 0; step < options.azimuth_steps; ++step) {
       const double az = -M_PI + 2.0 * M_PI * step / options.azimuth_steps;
       const Eigen::Vector3d dir_velo(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
@@ -200,7 +202,11 @@ VelodyneScan ScanLidar(const Scene& scene, const Shader& shader, const Rigid3d& 
       Hit hit;
       // Draw the noise for every beam direction so one lost return never shifts the others.
       const double range_noise = noise(rng);
-      if (!scene.Intersect(origin, dir, static_cast<float>(options.max_range), &hit)) continue;
+      const bool found = scene.Intersect(origin, dir, static_cast<float>(options.max_range), &hit,
+                                         hinted ? &previous : nullptr);
+      hinted = found;  // the next azimuth step usually hits the same surface
+      if (!found) continue;
+      previous = hit;
       if (hit.t < options.min_range) continue;
       const Eigen::Vector3f point = origin + hit.t * dir;
       out.points.push_back(dir_velo * (static_cast<double>(hit.t) + range_noise));
