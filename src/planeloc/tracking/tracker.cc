@@ -118,6 +118,14 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
     stats.ms_local_map = MillisecondsSince(local_start);
   }
 
+  if (!tracked && last_frame_ && stats.stereo_matches < options_.min_tracked_inliers) {
+    // Lost on a frame too poor to restart from (blank, blinded): predict, keep the last good
+    // frame as the motion model's base, and try again on the next frame.
+    stats.state = TrackingState::kLost;
+    lost_before_ = true;
+    ++frames_skipped_;
+    return {predicted.Inverse(), stats};
+  }
   bool make_keyframe = false;
   if (tracked) {
     stats.state = lost_before_ ? TrackingState::kRelocalized : TrackingState::kTracking;
@@ -367,7 +375,9 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   BaJob job;
   job.keyframe_id = kf_id;
   job.problem = BuildLocalWindow(map_, kf_id, options_);
-  if (ba_worker_) {
+  if (job.problem.observations.empty()) {
+    // Nothing to adjust (a keyframe without points).
+  } else if (ba_worker_) {
     ba_worker_->Submit(std::move(job));
   } else {
     SolveBaJob(camera_, options_.ba, job);

@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <sstream>
 
 #include "planeloc/io/kitti_sequence.h"
@@ -126,6 +127,41 @@ TEST_F(TrackerSimTest, SkippedFramesKeepTheMotionModel) {
     EXPECT_LT((r.world_from_cam.translation - result_->world_from_cam[i].translation).norm(),
               i == 10 || i == 11 ? 0.3 : 0.2)
         << "frame " << i;
+  }
+}
+
+TEST_F(TrackerSimTest, LossReinitializesAndContinues) {
+  const KittiSequence sequence = KittiSequence::Open(result_->sequence_dir);
+  TrackerOptions options;
+  options.deterministic = true;
+  Tracker tracker(sequence.camera(), options);
+  std::vector<TrackingState> states;
+  for (int i = 0; i < 20; ++i) {
+    StereoPair pair = sequence.LoadStereoPair(i);
+    if (i == 8) {
+      pair.left.setTo(0);  // blinded: nothing to track
+      pair.right.setTo(0);
+    } else if (i == 12) {
+      cv::flip(pair.left, pair.left, -1);  // a frame that matches nothing in the map
+      cv::flip(pair.right, pair.right, -1);
+      std::swap(pair.left, pair.right);
+    }
+    const TrackResult r = tracker.Track(pair.left, pair.right, sequence.timestamp(i));
+    states.push_back(r.stats.state);
+    if (i != 12) {
+      EXPECT_LT((r.world_from_cam.translation - result_->world_from_cam[i].translation).norm(), 0.5)
+          << "frame " << i;
+    }
+  }
+  EXPECT_EQ(states[8], TrackingState::kLost);
+  EXPECT_EQ(states[9], TrackingState::kRelocalized);
+  // The mirrored frame has stereo matches, so the map restarts from it, with wrong points: the
+  // next frame matches neither and restarts again from its own stereo (no place recognition).
+  EXPECT_EQ(states[12], TrackingState::kLost);
+  EXPECT_EQ(states[13], TrackingState::kLost);
+  EXPECT_EQ(states[14], TrackingState::kRelocalized);
+  for (int i : {0, 1, 2, 3, 4, 5, 6, 7, 10, 11, 15, 16, 17, 18, 19}) {
+    EXPECT_EQ(states[i], TrackingState::kTracking) << "frame " << i;
   }
 }
 
