@@ -1,6 +1,6 @@
 # planeloc_module(NAME name DEPS ...)
 # One static library per folder of src/planeloc/: every *.cc that is not a *_test.cc belongs to it,
-# every *_test.cc goes into one GoogleTest binary `planeloc_<name>_test`, registered with ctest.
+# every *_test.cc goes into one GoogleTest binary `planeloc_<name>_test`, registered as one ctest.
 # Globbing (CONFIGURE_DEPENDS) lets a module grow a file without touching CMake.
 function(planeloc_compile_flags target)
   target_compile_options(${target} PRIVATE -Wall -Wextra)
@@ -35,9 +35,9 @@ function(planeloc_module)
     target_compile_definitions(${target}_test PRIVATE
       PLANELOC_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
     planeloc_compile_flags(${target}_test)
-    gtest_discover_tests(${target}_test
-      WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
-      DISCOVERY_TIMEOUT 60
-      PROPERTIES LABELS ${ARG_NAME})
+    # One ctest per module binary, not per test: suites share expensive fixtures (a rendered
+    # synthetic sequence) through SetUpTestSuite, which per-test processes would redo each time.
+    add_test(NAME ${ARG_NAME} COMMAND ${target}_test WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    set_tests_properties(${ARG_NAME} PROPERTIES LABELS ${ARG_NAME} TIMEOUT 900)
   endif()
 endfunction()
