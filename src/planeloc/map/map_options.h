@@ -3,7 +3,8 @@
 //   tensor_voting:      {sigma: 0.5, radius_factor: 1.5, curvature_weight: 10,
 //                        max_stick_angle_deg: 45, stick_passes: 2}
 //   plane_extraction:   {min_stick_saliency: 0.5, growth_angle_deg: 15, ..., up: [0, -1, 0],
-//                        clustering: {max_clusters: 20, merge_angle_deg: 12, ...}}
+//                        clustering: {max_clusters: 20, merge_angle_deg: 12, ...},
+//                        outline: {cell_size: 0.25, closing_cells: 1, simplify_cells: 1}}
 //
 // Every key is optional (defaults from the structs). Unknown keys are warned about (and listed
 // together); a value of the wrong type is an InputError naming the file and line. The effective

@@ -226,11 +226,11 @@ bool Describe(const std::vector<Eigen::Vector3d>& points, const Patch& patch,
     hi = std::max(hi, f.dot(minor));
   }
   if (hi - lo < options.min_extent) return false;
-  const std::vector<Eigen::Vector2d> hull = ConvexHull2d(std::move(flat));
-  out.area = PolygonArea2d(hull);
+  const PlaneOutline2d outline = ComputePlaneOutline2d(flat, options.outline);
+  out.area = outline.area;
   if (out.area < options.min_area) return false;
   out.polygon.clear();
-  for (const auto& h : hull) out.polygon.push_back(centroid + h.x() * u + h.y() * v);
+  for (const auto& h : outline.ring) out.polygon.push_back(centroid + h.x() * u + h.y() * v);
   out.centroid = centroid;
   out.inliers = static_cast<int>(patch.points.size());
   out.rms = patch.rms;
@@ -243,6 +243,7 @@ bool Describe(const std::vector<Eigen::Vector3d>& points, const Patch& patch,
 
 void PlaneExtractionOptions::Check() const {
   clustering.Check();
+  outline.Check();
   auto require = [](bool ok, const char* message) {
     if (!ok) throw OptionsError(std::string("PlaneExtractionOptions.") + message);
   };

@@ -9,7 +9,8 @@
 //     merged — this also joins a plane whose normals straddled two k-means clusters;
 //  6. planes with too few inliers, too small an area or extent, or too large an rms are rejected
 //     (cars and hedges are small, foliage is rough);
-//  7. outline: 2-D convex hull of the inliers in plane coordinates, area = hull area.
+//  7. outline: concave outline of the inliers in plane coordinates (plane_outline.h: occupancy
+//     grid, closing, outer boundary of the largest component), area = occupied-cell area.
 // Everything is in the cloud's frame (the map frame). Deterministic.
 #pragma once
 
@@ -18,6 +19,7 @@
 
 #include "planeloc/io/plane_map.h"
 #include "planeloc/map/normal_clustering.h"
+#include "planeloc/map/plane_outline.h"
 #include "planeloc/map/tensor_voting.h"
 
 namespace planeloc {
@@ -39,6 +41,7 @@ struct PlaneExtractionOptions {
   // KITTI maps (camera-0 world frame, y down): (0, -1, 0); a raw Velodyne scan: (0, 0, 1).
   Eigen::Vector3d up = Eigen::Vector3d(0.0, -1.0, 0.0);
   double kind_angle_deg = 10.0;  // normal within this of up = ground, of horizontal = facade
+  PlaneOutlineOptions outline;   // polygon and area of each plane (min_area applies to this area)
 
   void Check() const;  // throws OptionsError naming the field
 };
@@ -60,7 +63,8 @@ PlaneExtractionResult ExtractPlanes(const std::vector<Eigen::Vector3d>& points,
 bool FitPlaneRobust(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices,
                     double inlier_distance, Plane& plane, std::vector<int>& inliers, double& rms);
 
-// Convex hull (counter-clockwise) of 2-D points and its area; exposed for tests.
+// Convex hull (counter-clockwise) of 2-D points and its area; exposed for tests (and to compare
+// the concave outline against).
 std::vector<Eigen::Vector2d> ConvexHull2d(std::vector<Eigen::Vector2d> points);
 double PolygonArea2d(const std::vector<Eigen::Vector2d>& polygon);
 
