@@ -43,19 +43,23 @@ std::vector<cv::Point> LargestComponentBoundary(const cv::Mat& occupied) {
                            [](const auto& a, const auto& b) { return a.size() < b.size(); });
 }
 
-// Number of (occupied, empty) 4-neighbour cell pairs: the boundary length in cell edges, holes
-// included. `occupied` is padded, so no occupied cell touches the image border.
-int ExposedEdges(const cv::Mat& occupied) {
-  int edges = 0;
+// Observed area in cells. A boundary cell is occupied however little of it the surface covers,
+// half of it on average, so each occupied cell counts 1 - 0.5 per empty 4-neighbour: a W x H
+// rectangle of cells gives (W - 1) x (H - 1), its extent between the outermost samples, instead of
+// overshooting by half a cell all round (10.25^2 m^2 for a 10 x 10 m patch). The floor of 1/4 (a
+// corner) keeps thin lines and isolated cells positive. `occupied` is padded (no border cells).
+double CoveredCells(const cv::Mat& occupied) {
+  double cells = 0.0;
   for (int r = 1; r + 1 < occupied.rows; ++r) {
     for (int c = 1; c + 1 < occupied.cols; ++c) {
       if (occupied.at<std::uint8_t>(r, c) == 0) continue;
-      edges +=
+      const int empty =
           (occupied.at<std::uint8_t>(r - 1, c) == 0) + (occupied.at<std::uint8_t>(r + 1, c) == 0) +
           (occupied.at<std::uint8_t>(r, c - 1) == 0) + (occupied.at<std::uint8_t>(r, c + 1) == 0);
+      cells += std::max(0.25, 1.0 - 0.5 * empty);
     }
   }
-  return edges;
+  return cells;
 }
 
 }  // namespace
@@ -101,10 +105,7 @@ PlaneOutline2d ComputePlaneOutline2d(const std::vector<Eigen::Vector2d>& points,
     const cv::Mat element = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size));
     cv::morphologyEx(occupied, occupied, cv::MORPH_CLOSE, element);
   }
-  // A boundary cell is occupied however little of it the surface covers, half of it on average:
-  // without the correction of half a cell per exposed cell edge a 10 x 10 m patch would measure
-  // (10 + 0.25)^2 m^2. The same holds per edge of a staircase, so it is right for any direction.
-  outline.area = (cv::countNonZero(occupied) - 0.5 * ExposedEdges(occupied)) * cell * cell;
+  outline.area = CoveredCells(occupied) * cell * cell;
   const std::vector<cv::Point> boundary = LargestComponentBoundary(occupied);
   std::vector<cv::Point> simplified;
   if (boundary.size() >= 3 && options.simplify_cells > 0.0) {

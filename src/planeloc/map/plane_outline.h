@@ -7,8 +7,8 @@
 // Choices (see docs/map.md):
 //  - the polygon is ONE ring (planes.json has one ring per plane): the outer boundary of the
 //    largest connected component, holes are not represented in it;
-//  - `area` is the occupied-cell area of ALL components after closing, less half a cell per
-//    exposed cell edge (the mean overshoot of boundary cells), (holes wider than ~2 closing
+//  - `area` is the occupied-cell area of ALL components after closing, each boundary cell
+//    counted 1 - 0.5 per empty 4-neighbour, at least 1/4 (holes wider than ~2 closing
 //    radii and the gaps between disjoint pieces are not counted), so it measures the observed
 //    surface, not the ring's area;
 //  - ring vertices are cell centres of boundary cells, so each vertex lies within one cell of an
