@@ -69,6 +69,10 @@ const std::vector<Key>& Keys() {
         [](O& o) -> int& { return o.keyframe_min_close_untracked; }),
       I("Mapping.minNewStereoPoints", [](O& o) -> int& { return o.min_new_stereo_points; }),
       D("Mapping.farDepthBaselines", [](O& o) -> double& { return o.far_depth_baselines; }),
+      B("Mapping.triangulateWithNeighbours",
+        [](O& o) -> bool& { return o.triangulate_with_neighbours; }),
+      I("Mapping.triangulationNeighbours",
+        [](O& o) -> int& { return o.triangulation_neighbours; }),
       D("Mapping.minFoundRatio", [](O& o) -> double& { return o.min_found_ratio; }),
       I("Mapping.minPointObservations", [](O& o) -> int& { return o.min_point_observations; }),
       I("LocalBA.windowKeyframes", [](O& o) -> int& { return o.ba_window_keyframes; }),
@@ -164,6 +168,7 @@ void TrackerOptions::Check() const {
   Require(min_new_stereo_points >= 0, "min_new_stereo_points must be >= 0");
   Require(far_depth_baselines >= close_depth_baselines,
           "far_depth_baselines must be >= close_depth_baselines");
+  Require(triangulation_neighbours >= 1, "triangulation_neighbours must be >= 1");
   Require(ba_window_keyframes >= 1, "ba_window_keyframes must be >= 1");
   Require(ba_max_fixed_keyframes >= 0, "ba_max_fixed_keyframes must be >= 0");
   Require(min_found_ratio >= 0 && min_found_ratio <= 1, "min_found_ratio must be in [0, 1]");

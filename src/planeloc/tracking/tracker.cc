@@ -13,6 +13,7 @@
 #include "planeloc/tracking/ba_worker.h"
 #include "planeloc/tracking/local_mapping.h"
 #include "planeloc/tracking/matcher.h"
+#include "planeloc/tracking/triangulation.h"
 
 namespace planeloc {
 namespace {
@@ -364,6 +365,14 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   recent_point_ids_.insert(recent_point_ids_.end(), created.begin(), created.end());
   CullRecentPoints(map_, recent_point_ids_, kf_id, options_);
   map_.UpdateConnections(kf_id);
+  if (options_.triangulate_with_neighbours) {
+    TriangulationOptions triangulation;
+    triangulation.num_neighbours = options_.triangulation_neighbours;
+    const std::vector<int> triangulated =
+        TriangulateWithNeighbours(map_, kf_id, camera_, triangulation);
+    recent_point_ids_.insert(recent_point_ids_.end(), triangulated.begin(), triangulated.end());
+    if (!triangulated.empty()) map_.UpdateConnections(kf_id);
+  }
   // The frame now observes what the keyframe observes (new points included).
   frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
   std::fill(frame.outlier.begin(), frame.outlier.end(), false);
