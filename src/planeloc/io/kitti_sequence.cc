@@ -1,6 +1,7 @@
 #include "planeloc/io/kitti_sequence.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cctype>
@@ -249,23 +250,87 @@ bool KittiSequence::ChooseColour(CameraChoice cameras, const fs::path& grey_left
   return true;
 }
 
+namespace {
+
+// KITTI numbers frames with fixed-width decimal file names (000042.png, 0000000042.png). When every
+// name of both cameras is such a number, returns the width; else 0.
+int NumericNameWidth(const std::vector<fs::path>& left, const std::vector<fs::path>& right) {
+  int width = 0;
+  for (const auto* files : {&left, &right}) {
+    for (const fs::path& file : *files) {
+      const std::string stem = file.stem().string();
+      if (stem.empty() || (width != 0 && static_cast<int>(stem.size()) != width) ||
+          !std::all_of(stem.begin(), stem.end(),
+                       [](unsigned char c) { return std::isdigit(c) != 0; })) {
+        return 0;
+      }
+      width = static_cast<int>(stem.size());
+    }
+  }
+  return width;
+}
+
+}  // namespace
+
 void KittiSequence::ListFrames(const fs::path& left_dir, const fs::path& right_dir) {
   CheckInput(IsDirectory(right_dir), right_dir.string(), 0, "right camera folder not found",
              "a stereo sequence needs both cameras of the pair; re-extract the sequence");
-  left_images_ = ListFiles(left_dir, ".png");
-  right_images_ = ListFiles(right_dir, ".png");
-  CheckInput(!left_images_.empty(), left_dir.string(), 0, "no .png images",
+  const std::vector<fs::path> left_files = ListFiles(left_dir, ".png");
+  const std::vector<fs::path> right_files = ListFiles(right_dir, ".png");
+  CheckInput(!left_files.empty(), left_dir.string(), 0, "no .png images",
              "re-extract the sequence's images");
-  CheckInput(left_images_.size() == right_images_.size(), right_dir.string(), 0,
-             fmt::format("{} right images but {} left images in {}", right_images_.size(),
-                         left_images_.size(), left_dir.string()),
-             "both cameras need one image per frame; re-extract the missing ones");
-  for (std::size_t i = 0; i < left_images_.size(); ++i) {
-    CheckInput(left_images_[i].filename() == right_images_[i].filename(), right_images_[i].string(),
-               0,
-               fmt::format("frame {} has no right image matching {}", i,
-                           left_images_[i].filename().string()),
-               "both cameras need images with the same frame numbers");
+  // Frames are the union of both cameras' file names; with KITTI's numbered names, every number
+  // from 0 to the last one, so a frame missing in both cameras is a gap too. A frame with a
+  // missing image stays in the list (HasFrame() is false for it) and is skipped by the tracker.
+  std::vector<std::string> names;
+  if (const int width = NumericNameWidth(left_files, right_files); width > 0) {
+    const long last = std::max(std::stol(left_files.back().stem().string()),
+                               right_files.empty() ? 0L : std::stol(right_files.back().stem()));
+    for (long frame = 0; frame <= last; ++frame) {
+      names.push_back(fmt::format("{:0{}d}.png", frame, width));
+    }
+  } else {
+    for (const auto* files : {&left_files, &right_files}) {
+      for (const fs::path& file : *files) names.push_back(file.filename().string());
+    }
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+  }
+  left_images_.clear();
+  right_images_.clear();
+  std::vector<std::string> missing;
+  std::size_t missing_left = 0, missing_right = 0;
+  for (const std::string& name : names) {
+    left_images_.push_back(left_dir / name);
+    right_images_.push_back(right_dir / name);
+    const bool has_left = IsFile(left_images_.back());
+    const bool has_right = IsFile(right_images_.back());
+    missing_left += !has_left;
+    missing_right += !has_right;
+    if (!has_left || !has_right) {
+      missing.push_back(fmt::format("{} ({})", name,
+                                    !has_left && !has_right ? "both"
+                                    : has_left              ? "right"
+                                                            : "left"));
+    }
+  }
+  CheckInput(IsFile(left_images_.front()), left_images_.front().string(), 0,
+             "the first frame's left image is missing",
+             "the first frame sets the image size and the initial pose; restore it or start the "
+             "sequence at the next frame");
+  // Many missing images are not gaps but two cameras that do not belong together.
+  CheckInput(2 * std::max(missing_left, missing_right) <= names.size(), right_dir.string(), 0,
+             fmt::format("{} left images in {} and {} right images here for {} frames",
+                         left_files.size(), left_dir.string(), right_files.size(), names.size()),
+             "both cameras need one image per frame with the same frame numbers; re-extract the "
+             "missing ones");
+  if (!missing.empty()) {
+    const std::size_t shown = std::min<std::size_t>(missing.size(), 5);
+    std::string list;
+    for (std::size_t i = 0; i < shown; ++i) list += (i ? ", " : "") + missing[i];
+    spdlog::warn("{}: {} of {} frames miss an image and will be skipped: {}{}",
+                 left_dir.parent_path().string(), missing.size(), names.size(), list,
+                 missing.size() > shown ? ", ..." : "");
   }
 }
 

@@ -453,14 +453,53 @@ TEST(KittiSequenceBadInput, LeftRightSizeMismatch) {
   ExpectInputError([&] { sequence.LoadStereoPair(2); }, "image_0/000002.png");
 }
 
+TEST(KittiSequenceGaps, MissingRightImageMidSequenceIsASkippableFrame) {
+  TempDir dir;
+  const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});
+  fs::remove(data.folder / "image_1" / "000001.png");
+  const KittiSequence sequence = KittiSequence::Open(data.folder);
+  ASSERT_EQ(sequence.size(), 3u);
+  EXPECT_TRUE(sequence.HasFrame(0));
+  EXPECT_FALSE(sequence.HasFrame(1));
+  EXPECT_TRUE(sequence.HasFrame(2));
+  ExpectInputError([&] { sequence.LoadStereoPair(1); }, "image_1/000001.png");
+  EXPECT_NO_THROW(sequence.LoadStereoPair(2));
+  EXPECT_NEAR(sequence.timestamp(2), 0.2078941, 1e-12);
+}
+
+TEST(KittiSequenceGaps, FrameMissingInBothCamerasKeepsItsNumberAndTime) {
+  TempDir dir;
+  const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});
+  fs::remove(data.folder / "image_0" / "000001.png");
+  fs::remove(data.folder / "image_1" / "000001.png");
+  const KittiSequence sequence = KittiSequence::Open(data.folder);
+  ASSERT_EQ(sequence.size(), 3u);
+  EXPECT_FALSE(sequence.HasFrame(1));
+  EXPECT_EQ(sequence.left_image_path(2).filename(), "000002.png");
+  EXPECT_NEAR(sequence.timestamp(1), 0.1038752, 1e-12);
+  ASSERT_TRUE(sequence.ground_truth().has_value());
+  EXPECT_EQ(sequence.ground_truth()->size(), 3u);
+}
+
 TEST(KittiSequenceBadInput, LeftRightCountMismatch) {
   TempDir dir;
   const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});
+  // Two of three right images gone: not a gap, the cameras do not belong together.
+  fs::remove(data.folder / "image_1" / "000001.png");
   fs::remove(data.folder / "image_1" / "000002.png");
   ExpectInputError([&] { KittiSequence::Open(data.folder); }, "image_1");
-  // Same count, different frame numbers.
-  fs::copy_file(data.folder / "image_1" / "000001.png", data.folder / "image_1" / "000007.png");
-  ExpectInputError([&] { KittiSequence::Open(data.folder); }, "image_1/000007.png");
+  TempDir other;
+  const SyntheticOdometry renumbered = WriteSyntheticOdometry(other.path(), {});
+  fs::copy_file(renumbered.folder / "image_1" / "000001.png",
+                renumbered.folder / "image_1" / "000007.png");
+  ExpectInputError([&] { KittiSequence::Open(renumbered.folder); }, "image_1");
+}
+
+TEST(KittiSequenceBadInput, FirstLeftImageMissing) {
+  TempDir dir;
+  const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});
+  fs::remove(data.folder / "image_0" / "000000.png");
+  ExpectInputError([&] { KittiSequence::Open(data.folder); }, "image_0/000000.png");
 }
 
 TEST(KittiSequenceBadInput, TimesCountMismatch) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -119,8 +120,10 @@ RunSummary RunSequence(const RunOptions& run) {
   for (std::size_t i = 0; i < total; ++i) {
     std::optional<StereoPair> pair;
     if (!sequence.HasFrame(i)) {
-      spdlog::warn("frame {}: images missing ({}), pose from the motion model", i,
-                   sequence.left_image_path(i).string());
+      const bool has_left = std::filesystem::is_regular_file(sequence.left_image_path(i));
+      spdlog::warn(
+          "frame {}: image missing ({}), pose from the motion model", i,
+          (has_left ? sequence.right_image_path(i) : sequence.left_image_path(i)).string());
     } else {
       try {
         pair = sequence.LoadStereoPair(i);

@@ -167,3 +167,34 @@ TEST_F(TrackerSimTest, LossReinitializesAndContinues) {
 
 }  // namespace
 }  // namespace planeloc
+
+namespace planeloc {
+namespace {
+
+// Issue 5, bad input: images missing mid-sequence are skipped with the motion-model pose and
+// the run goes on, writing one pose per input frame.
+TEST_F(TrackerSimTest, MissingImagesMidSequenceAreSkipped) {
+  const std::filesystem::path copy = dir_->path() / "gap";
+  std::filesystem::copy(result_->sequence_dir.parent_path().parent_path(), copy,
+                        std::filesystem::copy_options::recursive);
+  const std::filesystem::path sequence = copy / "sequences" / "00";
+  std::filesystem::remove(sequence / "image_0" / "000010.png");
+  std::filesystem::remove(sequence / "image_1" / "000011.png");
+  RunOptions run = Run("gap", true);
+  run.sequence = sequence;
+  run.max_frames = 25;
+  const RunSummary summary = RunSequence(run);
+  ASSERT_EQ(summary.frames, 25);
+  EXPECT_EQ(summary.skipped, 2);
+  EXPECT_EQ(summary.tracked, 23);  // every frame with images
+  EXPECT_EQ(summary.lost, 0);
+  EXPECT_EQ(ReadKittiTrajectory(run.trajectory_path).size(), 25u);
+  const std::vector<Rigid3d>& gt = result_->world_from_cam;
+  for (int i : {10, 11, 24}) {
+    EXPECT_LT((summary.world_from_cam[i].translation - gt[i].translation).norm(), 0.3)
+        << "frame " << i;
+  }
+}
+
+}  // namespace
+}  // namespace planeloc
