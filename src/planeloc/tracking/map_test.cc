@@ -8,20 +8,12 @@
 #include "planeloc/tracking/frame.h"
 #include "planeloc/tracking/local_mapping.h"
 #include "planeloc/tracking/matcher.h"
+#include "planeloc/tracking/test_camera.h"
 
 namespace planeloc {
 namespace {
 
-StereoCamera TestCamera() {
-  StereoCamera camera;
-  camera.fx = camera.fy = 700;
-  camera.cx = 600;
-  camera.cy = 185;
-  camera.baseline = 0.5;
-  camera.width = 1200;
-  camera.height = 370;
-  return camera;
-}
+StereoCamera TestCamera() { return testing::RoundStereoCamera(); }
 
 // Features of the given camera-frame points seen by `camera` (stereo where depth > 0).
 StereoFeatures FeaturesOf(const std::vector<Eigen::Vector3d>& points_in_cam,

@@ -4,22 +4,15 @@
 
 #include <fstream>
 
+#include "planeloc/sim/simulator.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/temp_dir.h"
 
 namespace planeloc {
 namespace {
 
-StereoCamera TestCamera() {
-  StereoCamera camera;
-  camera.fx = camera.fy = 707.0912;
-  camera.cx = 601.8873;
-  camera.cy = 183.1104;
-  camera.baseline = 0.537;
-  camera.width = 1226;
-  camera.height = 370;
-  return camera;
-}
+// The simulator's camera: KITTI odometry sequences 04-12.
+StereoCamera TestCamera() { return sim::Kitti07Camera(); }
 
 std::filesystem::path WriteFile(const TempDir& dir, const std::string& text) {
   const auto path = dir.path() / "settings.yaml";

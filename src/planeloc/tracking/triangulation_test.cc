@@ -6,19 +6,12 @@
 
 #include <random>
 
+#include "planeloc/tracking/test_camera.h"
+
 namespace planeloc {
 namespace {
 
-StereoCamera TestCamera() {
-  StereoCamera camera;
-  camera.fx = camera.fy = 700;
-  camera.cx = 600;
-  camera.cy = 185;
-  camera.baseline = 0.5;
-  camera.width = 1200;
-  camera.height = 370;
-  return camera;
-}
+StereoCamera TestCamera() { return testing::RoundStereoCamera(); }
 
 cv::Mat RandomDescriptors(int n, std::mt19937& rng) {
   cv::Mat d(n, 32, CV_8U);
