@@ -1,6 +1,5 @@
 #include "planeloc/map/tensor_voting.h"
 
-#include <open3d/geometry/KDTreeFlann.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -203,58 +202,6 @@ SaliencyClass ClassifySaliency(double l1, double l2, double l3) {
 
 namespace {
 
-// Radius search of every point; `visit(i, begin, end)` sees point i's neighbours while they are
-// still in cache (used to fuse the ball pass into the search).
-template <typename Visit>
-Neighborhoods SearchNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius,
-                                  Visit&& visit) {
-  Neighborhoods hoods;
-  hoods.radius = radius;
-  hoods.offsets.assign(points.size() + 1, 0);
-  if (points.empty()) return hoods;
-  Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    data.col(static_cast<Eigen::Index>(i)) = points[i];
-  }
-  const open3d::geometry::KDTreeFlann tree(data);
-  // Fixed blocks of consecutive points, each filling its own contiguous list: no per-point
-  // allocation, and the concatenation in block order is independent of the thread schedule.
-  const std::size_t n = points.size();
-  const std::size_t blocks = std::max<std::size_t>(1, n / 2048);
-  std::vector<std::vector<std::int32_t>> block_indices(blocks);
-  std::vector<std::vector<std::int64_t>> block_counts(blocks);
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
-    std::vector<int> found;
-    std::vector<double> distances2;
-    auto& indices = block_indices[block];
-    auto& counts = block_counts[block];
-    for (std::size_t i = n * block / blocks; i < n * (block + 1) / blocks; ++i) {
-      tree.SearchRadius(points[i], radius, found, distances2);
-      const std::size_t first = indices.size();
-      for (const int j : found) {
-        if (static_cast<std::size_t>(j) != i) indices.push_back(j);
-      }
-      counts.push_back(static_cast<std::int64_t>(indices.size() - first));
-      visit(i, indices.data() + first, indices.data() + indices.size());
-    }
-  });
-  std::size_t i = 0;
-  for (std::size_t block = 0; block < blocks; ++block) {
-    for (const std::int64_t count : block_counts[block]) {
-      hoods.offsets[i + 1] = hoods.offsets[i] + count;
-      ++i;
-    }
-  }
-  hoods.indices.resize(static_cast<std::size_t>(hoods.offsets.back()));
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
-    const auto first = hoods.offsets[n * block / blocks];
-    std::copy(block_indices[block].begin(), block_indices[block].end(),
-              hoods.indices.begin() + first);
-    std::vector<std::int32_t>().swap(block_indices[block]);
-  });
-  return hoods;
-}
-
 TensorVotingResult EmptyResult(std::size_t n) {
   TensorVotingResult result;
   result.normals.assign(n, Eigen::Vector3d::UnitZ());
@@ -265,8 +212,16 @@ TensorVotingResult EmptyResult(std::size_t n) {
   return result;
 }
 
-void StickPasses(const std::vector<Eigen::Vector3d>& points, const TensorVotingOptions& options,
-                 const Neighborhoods& neighborhoods, TensorVotingResult& result) {
+// Ball pass and stick passes; `result` must be EmptyResult(points.size()).
+void Vote(const std::vector<Eigen::Vector3d>& points, const TensorVotingOptions& options,
+          const Neighborhoods& neighborhoods, TensorVotingResult& result) {
+  const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
+  ParallelFor(points.size(), [&](std::size_t i) {
+    const std::int32_t* base = neighborhoods.indices.data();
+    Store(Decompose(BallTensor(points, base + neighborhoods.begin(i), base + neighborhoods.end(i),
+                               i, inv_sigma2)),
+          i, result);
+  });
   for (int pass = 0; pass < options.stick_passes; ++pass) {
     // Votes read the previous pass only, so the pass is order-independent.
     const std::vector<Eigen::Vector3d> normals = result.normals;
@@ -281,24 +236,28 @@ void StickPasses(const std::vector<Eigen::Vector3d>& points, const TensorVotingO
 
 }  // namespace
 
-Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius) {
-  return SearchNeighborhoods(points, radius,
-                             [](std::size_t, const std::int32_t*, const std::int32_t*) {});
-}
-
 TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
                                    const TensorVotingOptions& options) {
   options.Check();
-  // The ball pass runs inside the search (same votes, same order as the unfused overload).
-  TensorVotingResult result = EmptyResult(points.size());
-  const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
-  Neighborhoods neighborhoods = SearchNeighborhoods(
-      points, options.radius(),
-      [&](std::size_t i, const std::int32_t* begin, const std::int32_t* end) {
-        Store(Decompose(BallTensor(points, begin, end, i, inv_sigma2)), i, result);
-      });
-  StickPasses(points, options, neighborhoods, result);
-  result.neighborhoods = std::move(neighborhoods);
+  const std::size_t n = points.size();
+  const std::vector<std::int32_t> order = MortonOrder(points, options.radius());
+  std::vector<Eigen::Vector3d> sorted_points(n);
+  ParallelFor(n, [&](std::size_t k) { sorted_points[k] = points[order[k]]; });
+  Neighborhoods sorted_hoods = FindNeighborhoods(sorted_points, options.radius());
+  TensorVotingResult sorted = EmptyResult(n);
+  Vote(sorted_points, options, sorted_hoods, sorted);
+  std::vector<Eigen::Vector3d>().swap(sorted_points);
+
+  TensorVotingResult result = EmptyResult(n);
+  ParallelFor(n, [&](std::size_t k) {
+    const auto i = static_cast<std::size_t>(order[k]);
+    result.normals[i] = sorted.normals[k];
+    result.stick[i] = sorted.stick[k];
+    result.plate[i] = sorted.plate[k];
+    result.ball[i] = sorted.ball[k];
+    result.classes[i] = sorted.classes[k];
+  });
+  result.neighborhoods = Renumbered(sorted_hoods, InversePermutation(order));
   return result;
 }
 
@@ -310,14 +269,7 @@ TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
     throw std::invalid_argument("RunTensorVoting: neighbourhoods do not match the points");
   }
   TensorVotingResult result = EmptyResult(points.size());
-  const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
-  ParallelFor(points.size(), [&](std::size_t i) {
-    const std::int32_t* base = neighborhoods.indices.data();
-    Store(Decompose(BallTensor(points, base + neighborhoods.begin(i), base + neighborhoods.end(i),
-                               i, inv_sigma2)),
-          i, result);
-  });
-  StickPasses(points, options, neighborhoods, result);
+  Vote(points, options, neighborhoods, result);
   result.neighborhoods = std::move(neighborhoods);
   return result;
 }

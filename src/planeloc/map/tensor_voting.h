@@ -29,14 +29,20 @@
 // Decay: the paper writes Decay(d, sigma) = exp(-d / sigma^2) with d = (x_i - x)^2 + (y_i - y)^2,
 // i.e. d is the SQUARED distance; so w(l) = exp(-l^2 / sigma^2), a Gaussian in the distance.
 //
-// Cost O(N k) for k neighbours within `radius_factor * sigma`; TBB-parallel over votees, each
-// votee's sum in a fixed neighbour order, so results are bit-identical for any thread count.
+// Cost O(N k) for k neighbours within `radius_factor * sigma`, found once by a uniform-grid radius
+// search (neighborhoods.h). The votes are computed on a copy of the points sorted along a Morton
+// curve, so that a votee's neighbours are close in memory whatever the input order (a voxel-
+// downsampled map comes in hash order); results are returned in the input order. TBB-parallel
+// over votees, each votee's sum in a fixed neighbour order, so results are bit-identical for any
+// thread count.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "planeloc/map/neighborhoods.h"
 
 namespace planeloc {
 
@@ -52,22 +58,6 @@ struct TensorVotingOptions {
   // Throws OptionsError naming the field.
   void Check() const;
 };
-
-// Radius neighbourhoods in compressed-row form: neighbours of point i (without i itself) are
-// indices[offsets[i] .. offsets[i+1]). Found once and reused by both passes and by plane
-// extraction.
-struct Neighborhoods {
-  double radius = 0.0;                // metres
-  std::vector<std::int64_t> offsets;  // size N + 1
-  std::vector<std::int32_t> indices;
-
-  std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }
-  std::int64_t begin(std::size_t i) const { return offsets[i]; }
-  std::int64_t end(std::size_t i) const { return offsets[i + 1]; }
-};
-
-// Radius neighbours of every point by an Open3D KD-tree, searched in parallel.
-Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius);
 
 enum class SaliencyClass : std::uint8_t {
   kSurface = 0,   // stick dominant: on a surface, normal reliable

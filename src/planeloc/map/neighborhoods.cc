@@ -1,0 +1,226 @@
+#include "planeloc/map/neighborhoods.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace planeloc {
+namespace {
+
+constexpr int kBitsPerAxis = 21;  // 3 * 21 = 63 bits of Morton key
+constexpr std::int64_t kMaxCell = (std::int64_t{1} << kBitsPerAxis) - 1;
+
+// Spreads the low 21 bits of x so that there are two zero bits between consecutive bits.
+std::uint64_t SpreadBits(std::uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+
+std::uint64_t MortonKey(std::int64_t x, std::int64_t y, std::int64_t z) {
+  return SpreadBits(static_cast<std::uint64_t>(x)) |
+         SpreadBits(static_cast<std::uint64_t>(y)) << 1 |
+         SpreadBits(static_cast<std::uint64_t>(z)) << 2;
+}
+
+// Points sorted by the Morton key of their cell; cells are runs of equal keys.
+struct Grid {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  double cell_size = 1.0;
+  std::vector<std::int32_t> order;        // sorted position -> point index
+  std::vector<std::uint64_t> cell_keys;   // ascending, one per non-empty cell
+  std::vector<std::int64_t> cell_starts;  // size cells + 1, positions in `order`
+  std::vector<Eigen::Matrix<std::int64_t, 3, 1>> cell_coords;
+};
+
+Grid BuildGrid(const std::vector<Eigen::Vector3d>& points, double min_cell_size) {
+  if (!(min_cell_size > 0.0)) throw std::invalid_argument("cell size must be > 0");
+  if (points.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
+    throw std::invalid_argument("more than 2^31 - 1 points");
+  }
+  Grid grid;
+  if (points.empty()) {
+    grid.cell_starts = {0};
+    return grid;
+  }
+  Eigen::Vector3d lo = points.front(), hi = points.front();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) {
+      throw std::invalid_argument("point " + std::to_string(i) + " is not finite");
+    }
+    lo = lo.cwiseMin(points[i]);
+    hi = hi.cwiseMax(points[i]);
+  }
+  grid.origin = lo;
+  // Larger cells stay correct for a radius search (the 27 cells still cover the ball); they are
+  // only needed for maps wider than 2^21 cells.
+  grid.cell_size =
+      std::max(min_cell_size, (hi - lo).maxCoeff() / static_cast<double>(kMaxCell - 1));
+  const std::size_t n = points.size();
+  std::vector<std::pair<std::uint64_t, std::int32_t>> keyed(n);
+  const double inv_cell = 1.0 / grid.cell_size;
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    const Eigen::Vector3d c = ((points[i] - lo) * inv_cell).array().floor();
+    keyed[i] = {MortonKey(std::min<std::int64_t>(static_cast<std::int64_t>(c.x()), kMaxCell),
+                          std::min<std::int64_t>(static_cast<std::int64_t>(c.y()), kMaxCell),
+                          std::min<std::int64_t>(static_cast<std::int64_t>(c.z()), kMaxCell)),
+                static_cast<std::int32_t>(i)};
+  });
+  // (key, index) pairs are unique, so the parallel sort is deterministic.
+  tbb::parallel_sort(keyed.begin(), keyed.end());
+  grid.order.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    grid.order[k] = keyed[k].second;
+    if (k == 0 || keyed[k].first != keyed[k - 1].first) {
+      grid.cell_keys.push_back(keyed[k].first);
+      grid.cell_starts.push_back(static_cast<std::int64_t>(k));
+      const Eigen::Vector3d c = ((points[keyed[k].second] - lo) * inv_cell).array().floor();
+      grid.cell_coords.push_back(c.cast<std::int64_t>().cwiseMin(kMaxCell));
+    }
+  }
+  grid.cell_starts.push_back(static_cast<std::int64_t>(n));
+  return grid;
+}
+
+// Cell index of a key, or -1.
+std::int64_t FindCell(const Grid& grid, std::uint64_t key) {
+  const auto it = std::lower_bound(grid.cell_keys.begin(), grid.cell_keys.end(), key);
+  if (it == grid.cell_keys.end() || *it != key) return -1;
+  return it - grid.cell_keys.begin();
+}
+
+}  // namespace
+
+std::vector<std::int32_t> MortonOrder(const std::vector<Eigen::Vector3d>& points,
+                                      double cell_size) {
+  return BuildGrid(points, cell_size).order;
+}
+
+std::vector<std::int32_t> InversePermutation(const std::vector<std::int32_t>& order) {
+  std::vector<std::int32_t> inverse(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    inverse[static_cast<std::size_t>(order[k])] = static_cast<std::int32_t>(k);
+  }
+  return inverse;
+}
+
+Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius) {
+  if (!(radius > 0.0)) throw std::invalid_argument("FindNeighborhoods: radius must be > 0");
+  const Grid grid = BuildGrid(points, radius);
+  const std::size_t n = points.size();
+  Neighborhoods hoods;
+  hoods.radius = radius;
+  hoods.offsets.assign(n + 1, 0);
+  if (n == 0) return hoods;
+  const double radius2 = radius * radius;
+  const std::size_t cells = grid.cell_keys.size();
+  // Fixed blocks of consecutive cells, each filling its own row lists: the result does not depend
+  // on the thread schedule.
+  const std::size_t blocks = std::max<std::size_t>(1, std::min<std::size_t>(cells, n / 4096));
+  auto block_first_cell = [&](std::size_t block) { return cells * block / blocks; };
+  std::vector<std::vector<std::int32_t>> block_indices(blocks);
+  std::vector<std::int32_t> row_sizes(n);  // by sorted position
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
+    std::vector<double> cx, cy, cz;
+    std::vector<std::int32_t> cid;
+    auto& out = block_indices[block];
+    for (std::size_t cell = block_first_cell(block); cell < block_first_cell(block + 1); ++cell) {
+      cx.clear();
+      cy.clear();
+      cz.clear();
+      cid.clear();
+      const auto& coords = grid.cell_coords[cell];
+      for (int dz = -1; dz <= 1; ++dz) {
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const Eigen::Matrix<std::int64_t, 3, 1> c =
+                coords + Eigen::Matrix<std::int64_t, 3, 1>(dx, dy, dz);
+            if ((c.array() < 0).any() || (c.array() > kMaxCell).any()) continue;
+            const std::int64_t other = FindCell(grid, MortonKey(c.x(), c.y(), c.z()));
+            if (other < 0) continue;
+            for (auto k = grid.cell_starts[other]; k < grid.cell_starts[other + 1]; ++k) {
+              const std::int32_t j = grid.order[static_cast<std::size_t>(k)];
+              const Eigen::Vector3d& q = points[static_cast<std::size_t>(j)];
+              cx.push_back(q.x());
+              cy.push_back(q.y());
+              cz.push_back(q.z());
+              cid.push_back(j);
+            }
+          }
+        }
+      }
+      const std::size_t candidates = cid.size();
+      for (auto k = grid.cell_starts[cell]; k < grid.cell_starts[cell + 1]; ++k) {
+        const std::int32_t i = grid.order[static_cast<std::size_t>(k)];
+        const Eigen::Vector3d& p = points[static_cast<std::size_t>(i)];
+        const std::size_t first = out.size();
+        out.resize(first + candidates);
+        std::int32_t* dst = out.data() + first;
+        std::size_t count = 0;
+        // Branch-free compaction: write every candidate, advance only past the kept ones.
+        for (std::size_t c = 0; c < candidates; ++c) {
+          const double ex = cx[c] - p.x(), ey = cy[c] - p.y(), ez = cz[c] - p.z();
+          const double d2 = ex * ex + ey * ey + ez * ez;
+          dst[count] = cid[c];
+          count += static_cast<std::size_t>((d2 <= radius2) & (cid[c] != i));
+        }
+        out.resize(first + count);
+        row_sizes[static_cast<std::size_t>(k)] = static_cast<std::int32_t>(count);
+      }
+    }
+    out.shrink_to_fit();
+  });
+  for (std::size_t k = 0; k < n; ++k) {
+    hoods.offsets[static_cast<std::size_t>(grid.order[k]) + 1] = row_sizes[k];
+  }
+  for (std::size_t i = 0; i < n; ++i) hoods.offsets[i + 1] += hoods.offsets[i];
+  hoods.indices.resize(static_cast<std::size_t>(hoods.offsets.back()));
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
+    const std::int32_t* src = block_indices[block].data();
+    const auto first = static_cast<std::size_t>(grid.cell_starts[block_first_cell(block)]);
+    const auto last = static_cast<std::size_t>(grid.cell_starts[block_first_cell(block + 1)]);
+    for (std::size_t k = first; k < last; ++k) {
+      const auto row = static_cast<std::size_t>(grid.order[k]);
+      std::copy(src, src + row_sizes[k], hoods.indices.begin() + hoods.offsets[row]);
+      src += row_sizes[k];
+    }
+    std::vector<std::int32_t>().swap(block_indices[block]);
+  });
+  return hoods;
+}
+
+Neighborhoods Renumbered(const Neighborhoods& hoods, const std::vector<std::int32_t>& order) {
+  if (order.size() != hoods.size()) {
+    throw std::invalid_argument("Renumbered: permutation size differs from the neighbourhoods");
+  }
+  const std::vector<std::int32_t> new_index = InversePermutation(order);
+  const std::size_t n = order.size();
+  Neighborhoods out;
+  out.radius = hoods.radius;
+  out.offsets.assign(n + 1, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto old = static_cast<std::size_t>(order[k]);
+    out.offsets[k + 1] = out.offsets[k] + (hoods.end(old) - hoods.begin(old));
+  }
+  out.indices.resize(hoods.indices.size());
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+    const auto old = static_cast<std::size_t>(order[k]);
+    std::int64_t dst = out.offsets[k];
+    for (auto e = hoods.begin(old); e < hoods.end(old); ++e) {
+      out.indices[static_cast<std::size_t>(dst++)] =
+          new_index[static_cast<std::size_t>(hoods.indices[static_cast<std::size_t>(e)])];
+    }
+  });
+  return out;
+}
+
+}  // namespace planeloc
