@@ -1,6 +1,7 @@
 #include "planeloc/map/tensor_voting.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Eigenvalues>
@@ -9,6 +10,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "planeloc/map/fast_exp.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
@@ -48,111 +50,112 @@ void Store(const Eigen3& eig, std::size_t i, TensorVotingResult& result) {
   result.classes[i] = ClassifySaliency(eig.l1, eig.l2, eig.l3);
 }
 
-// exp(-x) for x >= 0 by linear interpolation in a table (relative error < 1e-4 for x < 20, 0
-// beyond): the vote loops are dominated by exp, and the decay needs no more precision.
-class NegExpTable {
- public:
-  NegExpTable() {
-    for (int i = 0; i <= kSize; ++i) table_[i] = std::exp(-static_cast<double>(i) / kScale);
+// Per-votee scratch: the votee-to-voter vectors and voter attributes of one neighbourhood in
+// structure-of-arrays float form, so that the vote loops below vectorize.
+struct VoterBatch {
+  std::vector<float> vx, vy, vz, nx, ny, nz, stick, ball;
+  void Resize(std::size_t n) {
+    for (auto* a : {&vx, &vy, &vz, &nx, &ny, &nz, &stick, &ball}) {
+      if (a->size() < n) a->resize(n);
+    }
   }
-  double operator()(double x) const {
-    const double t = x * kScale;
-    if (!(t < kSize)) return 0.0;
-    const int i = static_cast<int>(t);
-    const double f = t - i;
-    return table_[i] + f * (table_[i + 1] - table_[i]);
-  }
-
- private:
-  static constexpr int kSize = 20 * 256;
-  static constexpr double kScale = 256.0;
-  double table_[kSize + 1];
 };
-const NegExpTable& NegExp() {
-  static const NegExpTable table;
-  return table;
-}
 
-// Upper triangle of a symmetric 3x3 accumulator (xx, xy, xz, yy, yz, zz): half the work of a
-// full outer product in the vote loops.
-struct SymAccumulator {
-  double a[6] = {0, 0, 0, 0, 0, 0};
-  void AddOuter(double w, const Eigen::Vector3d& v) {
-    a[0] += w * v.x() * v.x();
-    a[1] += w * v.x() * v.y();
-    a[2] += w * v.x() * v.z();
-    a[3] += w * v.y() * v.y();
-    a[4] += w * v.y() * v.z();
-    a[5] += w * v.z() * v.z();
-  }
-  void AddIdentity(double w) {
-    a[0] += w;
-    a[3] += w;
-    a[5] += w;
-  }
+// Upper triangle (xx, xy, xz, yy, yz, zz) plus an isotropic part: tensor = sym + iso * I.
+struct VoteSums {
+  float xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0, iso = 0;
   Eigen::Matrix3d Matrix() const {
     Eigen::Matrix3d m;
-    m << a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5];
+    m << xx + iso, xy, xz, xy, yy + iso, yz, xz, yz, zz + iso;
     return m;
   }
 };
 
-// Pass 1: unoriented voters cast (l^2 I - v v^T) w(l) / sigma^2 (see the header).
-Eigen::Matrix3d BallTensor(const std::vector<Eigen::Vector3d>& points, const std::int32_t* begin,
-                           const std::int32_t* end, std::size_t votee, double inv_sigma2) {
-  const NegExpTable& neg_exp = NegExp();
-  SymAccumulator tensor;
-  const Eigen::Vector3d& x = points[votee];
-  for (const std::int32_t* k = begin; k != end; ++k) {
-    const Eigen::Vector3d v = x - points[*k];
-    const double l2 = v.squaredNorm();
-    const double w = neg_exp(l2 * inv_sigma2) * inv_sigma2;
-    tensor.AddOuter(-w, v);
-    tensor.AddIdentity(w * l2);
+// Loads the vectors v = x_votee - x_voter (computed in double, then rounded: the map may be
+// kilometres from its origin) of votee i's neighbours into `batch`.
+std::size_t GatherOffsets(const std::vector<Eigen::Vector3d>& points, const Neighborhoods& hoods,
+                          std::size_t i, VoterBatch& batch) {
+  const std::size_t k = static_cast<std::size_t>(hoods.end(i) - hoods.begin(i));
+  batch.Resize(k);
+  const Eigen::Vector3d& x = points[i];
+  const std::int32_t* voters = hoods.indices.data() + hoods.begin(i);
+  for (std::size_t j = 0; j < k; ++j) {
+    const Eigen::Vector3d v = x - points[static_cast<std::size_t>(voters[j])];
+    batch.vx[j] = static_cast<float>(v.x());
+    batch.vy[j] = static_cast<float>(v.y());
+    batch.vz[j] = static_cast<float>(v.z());
   }
-  return tensor.Matrix();
+  return k;
 }
 
-// Pass 2: voter i casts its normal n_i along the osculating arc. With s = sin(theta) = n.v^, the
-// normal rotated by 2 theta simplifies to the reflection n - 2 s v^ (unit, no trigonometry).
-Eigen::Matrix3d StickTensor(const std::vector<Eigen::Vector3d>& points, const Neighborhoods& hoods,
-                            const std::vector<Eigen::Vector3d>& normals,
-                            const std::vector<float>& stick, const std::vector<float>& ball,
-                            std::size_t votee, const TensorVotingOptions& options) {
-  const NegExpTable& neg_exp = NegExp();
-  const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
-  const double curvature_scale = 4.0 * options.curvature_weight * options.sigma * options.sigma;
-  const double max_sin = std::sin(options.max_stick_angle_deg * kDegToRad);
-  const Eigen::Vector3d& x = points[votee];
-  SymAccumulator tensor;
-  tensor.AddOuter(stick[votee], normals[votee]);
-  for (std::int64_t k = hoods.begin(votee); k < hoods.end(votee); ++k) {
-    const std::int32_t voter = hoods.indices[k];
-    const Eigen::Vector3d& n = normals[voter];
-    const Eigen::Vector3d v = x - points[voter];
-    const double l2 = v.squaredNorm();
-    if (l2 < 1e-24) {
-      tensor.AddOuter(stick[voter], n);
-      continue;
-    }
-    const double inv_l2 = 1.0 / l2;
-    const double decay = neg_exp(l2 * inv_sigma2);
-    // The voter's ball part votes as a ball (Medioni): without it, clutter whose pass-1 normals
-    // are weak but spatially correlated would be smoothed into false surfaces. Unit-free form:
-    // ball * decay * (I - v v^T / l^2).
-    const double ball_weight = ball[voter] * decay;
-    tensor.AddOuter(-ball_weight * inv_l2, v);
-    tensor.AddIdentity(ball_weight);
-    const double s_times_l = n.dot(v);  // s * l
-    const double s2 = s_times_l * s_times_l * inv_l2;
-    if (stick[voter] <= 0.0f || s2 > max_sin * max_sin) continue;
-    // kappa^2 = 4 s^2 / l^2, so c (sigma kappa)^2 = curvature_scale * s^2 / l^2.
-    const double w = stick[voter] * decay * neg_exp(curvature_scale * s2 * inv_l2);
-    // n - 2 s v^ = n - 2 (s l) v / l^2.
-    const Eigen::Vector3d voted = n - (2.0 * s_times_l * inv_l2) * v;
-    tensor.AddOuter(w, voted);
+// Pass 1: unoriented voters cast (l^2 I - v v^T) w(l) / sigma^2 (see the header).
+Eigen::Matrix3d BallTensor(const VoterBatch& batch, std::size_t k, float inv_sigma2) {
+  float xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0, iso = 0;
+  const float* vx = batch.vx.data();
+  const float* vy = batch.vy.data();
+  const float* vz = batch.vz.data();
+#pragma omp simd reduction(+ : xx, xy, xz, yy, yz, zz, iso)
+  for (std::size_t j = 0; j < k; ++j) {
+    const float x = vx[j], y = vy[j], z = vz[j];
+    const float l2 = x * x + y * y + z * z;
+    const float w = FastNegExp(l2 * inv_sigma2) * inv_sigma2;
+    xx -= w * x * x;
+    xy -= w * x * y;
+    xz -= w * x * z;
+    yy -= w * y * y;
+    yz -= w * y * z;
+    zz -= w * z * z;
+    iso += w * l2;
   }
-  return tensor.Matrix();
+  return VoteSums{xx, xy, xz, yy, yz, zz, iso}.Matrix();
+}
+
+struct StickParams {
+  float inv_sigma2;
+  float curvature_scale;  // 4 c sigma^2: c (sigma kappa)^2 = curvature_scale * s^2 / l^2
+  float max_sin2;         // sin^2 of the largest angle between the voter's plane and v
+};
+
+// Pass 2: voter j casts its normal n_j along the osculating arc. With s = sin(theta) = n.v^, the
+// normal rotated by 2 theta simplifies to the reflection n - 2 s v^ (unit, no trigonometry). The
+// voter's ball part votes as a ball (Medioni): without it, clutter whose pass-1 normals are weak
+// but spatially correlated would be smoothed into false surfaces. Unit-free form:
+// ball * decay * (I - v v^T / l^2). A duplicate point (l = 0) casts its own stick.
+Eigen::Matrix3d StickTensor(const VoterBatch& batch, std::size_t k, const StickParams& params) {
+  float xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0, iso = 0;
+  const float* vx = batch.vx.data();
+  const float* vy = batch.vy.data();
+  const float* vz = batch.vz.data();
+  const float* nx = batch.nx.data();
+  const float* ny = batch.ny.data();
+  const float* nz = batch.nz.data();
+  const float* stick = batch.stick.data();
+  const float* ball = batch.ball.data();
+#pragma omp simd reduction(+ : xx, xy, xz, yy, yz, zz, iso)
+  for (std::size_t j = 0; j < k; ++j) {
+    const float x = vx[j], y = vy[j], z = vz[j];
+    const float l2 = x * x + y * y + z * z;
+    // Not `l2 > 0 ? 1 / l2 : 0`: a division under a condition cannot be if-converted (it may
+    // trap), and the loop would not vectorize.
+    const float inv_l2 = (l2 > 1e-20f ? 1.0f : 0.0f) / std::max(l2, 1e-20f);
+    const float decay = FastNegExp(l2 * params.inv_sigma2);
+    const float s_times_l = nx[j] * x + ny[j] * y + nz[j] * z;
+    const float s2 = s_times_l * s_times_l * inv_l2;
+    const float in_cone = s2 <= params.max_sin2 ? 1.0f : 0.0f;
+    const float w = in_cone * stick[j] * decay * FastNegExp(params.curvature_scale * s2 * inv_l2);
+    const float c = 2.0f * s_times_l * inv_l2;  // n - 2 s v^ = n - 2 (s l) v / l^2
+    const float ux = nx[j] - c * x, uy = ny[j] - c * y, uz = nz[j] - c * z;
+    const float ball_weight = ball[j] * decay;
+    const float q = ball_weight * inv_l2;
+    xx += w * ux * ux - q * x * x;
+    xy += w * ux * uy - q * x * y;
+    xz += w * ux * uz - q * x * z;
+    yy += w * uy * uy - q * y * y;
+    yz += w * uy * uz - q * y * z;
+    zz += w * uz * uz - q * z * z;
+    iso += ball_weight;
+  }
+  return VoteSums{xx, xy, xz, yy, yz, zz, iso}.Matrix();
 }
 
 template <typename Fn>
@@ -215,21 +218,44 @@ TensorVotingResult EmptyResult(std::size_t n) {
 // Ball pass and stick passes; `result` must be EmptyResult(points.size()).
 void Vote(const std::vector<Eigen::Vector3d>& points, const TensorVotingOptions& options,
           const Neighborhoods& neighborhoods, TensorVotingResult& result) {
+  const std::size_t n = points.size();
   const double inv_sigma2 = 1.0 / (options.sigma * options.sigma);
-  ParallelFor(points.size(), [&](std::size_t i) {
-    const std::int32_t* base = neighborhoods.indices.data();
-    Store(Decompose(BallTensor(points, base + neighborhoods.begin(i), base + neighborhoods.end(i),
-                               i, inv_sigma2)),
-          i, result);
+  tbb::enumerable_thread_specific<VoterBatch> batches;
+  ParallelFor(n, [&](std::size_t i) {
+    VoterBatch& batch = batches.local();
+    const std::size_t k = GatherOffsets(points, neighborhoods, i, batch);
+    Store(Decompose(BallTensor(batch, k, static_cast<float>(inv_sigma2))), i, result);
   });
+  const double max_sin = std::sin(options.max_stick_angle_deg * kDegToRad);
+  const StickParams params{
+      static_cast<float>(inv_sigma2),
+      static_cast<float>(4.0 * options.curvature_weight * options.sigma * options.sigma),
+      static_cast<float>(max_sin * max_sin)};
+  std::vector<float> normals(3 * n);
   for (int pass = 0; pass < options.stick_passes; ++pass) {
     // Votes read the previous pass only, so the pass is order-independent.
-    const std::vector<Eigen::Vector3d> normals = result.normals;
+    ParallelFor(n, [&](std::size_t i) {
+      for (int a = 0; a < 3; ++a) normals[3 * i + a] = static_cast<float>(result.normals[i](a));
+    });
     const std::vector<float> stick = result.stick;
     const std::vector<float> ball = result.ball;
-    ParallelFor(points.size(), [&](std::size_t i) {
-      Store(Decompose(StickTensor(points, neighborhoods, normals, stick, ball, i, options)), i,
-            result);
+    ParallelFor(n, [&](std::size_t i) {
+      VoterBatch& batch = batches.local();
+      const std::size_t k = GatherOffsets(points, neighborhoods, i, batch);
+      const std::int32_t* voters = neighborhoods.indices.data() + neighborhoods.begin(i);
+      for (std::size_t j = 0; j < k; ++j) {
+        const auto voter = static_cast<std::size_t>(voters[j]);
+        batch.nx[j] = normals[3 * voter];
+        batch.ny[j] = normals[3 * voter + 1];
+        batch.nz[j] = normals[3 * voter + 2];
+        batch.stick[j] = stick[voter];
+        batch.ball[j] = ball[voter];
+      }
+      // The votee's own normal counts as a vote of weight 1 (decay at distance 0).
+      Eigen::Matrix3d tensor = StickTensor(batch, k, params);
+      const Eigen::Vector3d own(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
+      tensor += static_cast<double>(stick[i]) * own * own.transpose();
+      Store(Decompose(tensor), i, result);
     });
   }
 }

@@ -13,7 +13,7 @@
 // and the paper's class rule: stick if (l1-l2) >= (l2-l3) and (l1-l2) >= l3; plate if (l2-l3) is
 // the largest; ball otherwise.
 //
-// Passes (both gather votes at the votee from its radius neighbours, found once by a KD-tree):
+// Passes (both gather votes at the votee from its radius neighbours, found once; neighborhoods.h):
 //  1. Ball pass: an unoriented voter at distance vector v from the votee (|v| = l) casts
 //     w(l) * (l^2 I - v v^T) / sigma^2, i.e. a ball vote (I - v^ v^T) — the normal plane of the
 //     connecting line — scaled by (l/sigma)^2 so that the nearest neighbours, whose direction is

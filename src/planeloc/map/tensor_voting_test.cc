@@ -133,8 +133,8 @@ TEST(TensorVotingTest, InputOrderDoesNotChangeTheResult) {
     std::sort(b.begin(), b.end());
     ASSERT_EQ(a, b) << i;
     // Only the summation order differs.
-    ASSERT_LT(AngleDeg(sorted.normals[i], given.normals[i]), 1e-4) << i;
-    ASSERT_NEAR(sorted.stick[i], given.stick[i], 1e-5) << i;
+    ASSERT_LT(AngleDeg(sorted.normals[i], given.normals[i]), 1e-3) << i;
+    ASSERT_NEAR(sorted.stick[i], given.stick[i], 1e-4) << i;
     ASSERT_EQ(sorted.classes[i], given.classes[i]) << i;
   }
 }
