@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "planeloc/map/neighborhoods.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/progress.h"
 
@@ -18,6 +19,7 @@ void MapBuildOptions::Check() const {
     throw OptionsError("MapBuildOptions.max_range must be > min_range (m)");
   }
   if (buffer_points < 1000) throw OptionsError("MapBuildOptions.buffer_points must be >= 1000");
+  if (!(sort_cell >= 0.0)) throw OptionsError("MapBuildOptions.sort_cell must be >= 0 (m)");
 }
 
 std::vector<Eigen::Vector3d> VoxelDownsample(const std::vector<Eigen::Vector3d>& points,
@@ -56,7 +58,13 @@ void MapAccumulator::Compact() {
 PointCloud MapAccumulator::Finish() {
   Compact();
   PointCloud map;
-  map.points = std::move(points_);
+  if (options_.sort_cell > 0.0 && !points_.empty()) {
+    const std::vector<std::int32_t> order = MortonOrder(points_, options_.sort_cell);
+    map.points.resize(points_.size());
+    for (std::size_t k = 0; k < order.size(); ++k) map.points[k] = points_[order[k]];
+  } else {
+    map.points = std::move(points_);
+  }
   points_.clear();
   compacted_size_ = 0;
   return map;

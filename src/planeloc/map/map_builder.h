@@ -23,6 +23,10 @@ struct MapBuildOptions {
   double max_range = 60.0;   // metres: farther points (sparse, noisy) dropped
   std::size_t buffer_points = 4'000'000;  // re-downsample the map when this many points pile up
   bool show_progress = true;              // progress bar on stderr (terminal only)
+  // The map is written sorted along a Morton curve of cells of this size (metres; 0 = Open3D's
+  // hash order). Equal to the default tensor-voting radius, so `map planes` votes on it without
+  // making a sorted copy (any other order works, at the cost of that copy).
+  double sort_cell = 0.75;
 
   void Check() const;  // throws OptionsError naming the field
 };

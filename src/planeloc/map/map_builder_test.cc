@@ -4,6 +4,7 @@
 
 #include <fstream>
 
+#include "planeloc/map/neighborhoods.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/temp_dir.h"
 
@@ -57,6 +58,9 @@ TEST(MapAccumulatorTest, CompactionKeepsTheMapBounded) {
   // 10 m x 10.1 m at 0.1 m voxels minus the 2 m hole: ~ 10 000 points, not 10 scans' worth.
   EXPECT_LT(map.size(), 11000u);
   EXPECT_GT(map.size(), 8000u);
+  // Written in Morton order of the tensor-voting radius, so `map planes` needs no sorted copy.
+  const std::vector<std::int32_t> order = MortonOrder(map.points, options.sort_cell);
+  for (std::size_t k = 0; k < order.size(); ++k) ASSERT_EQ(order[k], static_cast<int>(k));
 }
 
 TEST(MapBuildOptionsTest, Check) {
@@ -65,6 +69,9 @@ TEST(MapBuildOptionsTest, Check) {
   EXPECT_THROW(options.Check(), OptionsError);
   options = MapBuildOptions();
   options.max_range = 1.0;
+  EXPECT_THROW(options.Check(), OptionsError);
+  options = MapBuildOptions();
+  options.sort_cell = -1.0;
   EXPECT_THROW(options.Check(), OptionsError);
 }
 

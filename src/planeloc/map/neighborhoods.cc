@@ -1,5 +1,6 @@
 #include "planeloc/map/neighborhoods.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -98,19 +99,68 @@ std::int64_t FindCell(const Grid& grid, std::uint64_t key) {
   return it - grid.cell_keys.begin();
 }
 
+// For every point i, calls visit(i, candidates, keep, count) with the points of the 27 cells
+// around i's cell and keep[c] = (|p_candidate - p_i| <= radius), i itself included. Cells are
+// processed TBB-parallel; visits of one point never overlap.
+template <typename Visit>
+void SweepCells(const Grid& grid, const std::vector<Eigen::Vector3d>& points, double radius,
+                Visit&& visit) {
+  const double radius2 = radius * radius;
+  const std::size_t cells = grid.cell_keys.size();
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, cells, 16),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        std::vector<double> cx, cy, cz;
+        std::vector<std::int32_t> cid;
+        std::vector<std::uint8_t> keep;
+        for (std::size_t cell = range.begin(); cell != range.end(); ++cell) {
+          cx.clear();
+          cy.clear();
+          cz.clear();
+          cid.clear();
+          const auto& coords = grid.cell_coords[cell];
+          for (int dz = -1; dz <= 1; ++dz) {
+            for (int dy = -1; dy <= 1; ++dy) {
+              for (int dx = -1; dx <= 1; ++dx) {
+                const Eigen::Matrix<std::int64_t, 3, 1> c =
+                    coords + Eigen::Matrix<std::int64_t, 3, 1>(dx, dy, dz);
+                if ((c.array() < 0).any() || (c.array() > kMaxCell).any()) continue;
+                const std::int64_t other = FindCell(grid, MortonKey(c.x(), c.y(), c.z()));
+                if (other < 0) continue;
+                for (auto k = grid.cell_starts[other]; k < grid.cell_starts[other + 1]; ++k) {
+                  const std::int32_t j = grid.order[static_cast<std::size_t>(k)];
+                  const Eigen::Vector3d& q = points[static_cast<std::size_t>(j)];
+                  cx.push_back(q.x());
+                  cy.push_back(q.y());
+                  cz.push_back(q.z());
+                  cid.push_back(j);
+                }
+              }
+            }
+          }
+          const std::size_t count = cid.size();
+          keep.resize(count);
+          for (auto k = grid.cell_starts[cell]; k < grid.cell_starts[cell + 1]; ++k) {
+            const std::int32_t i = grid.order[static_cast<std::size_t>(k)];
+            const Eigen::Vector3d& p = points[static_cast<std::size_t>(i)];
+            const double px = p.x(), py = p.y(), pz = p.z();
+            // Absolute coordinates: d2(i, j) and d2(j, i) are the same float, so the neighbour
+            // relation is exactly symmetric.
+            for (std::size_t c = 0; c < count; ++c) {
+              const double ex = cx[c] - px, ey = cy[c] - py, ez = cz[c] - pz;
+              keep[c] = (ex * ex + ey * ey + ez * ez) <= radius2;
+            }
+            visit(i, cid.data(), keep.data(), count);
+          }
+        }
+      });
+}
+
 }  // namespace
 
 std::vector<std::int32_t> MortonOrder(const std::vector<Eigen::Vector3d>& points,
                                       double cell_size) {
   return BuildGrid(points, cell_size).order;
-}
-
-std::vector<std::int32_t> InversePermutation(const std::vector<std::int32_t>& order) {
-  std::vector<std::int32_t> inverse(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    inverse[static_cast<std::size_t>(order[k])] = static_cast<std::int32_t>(k);
-  }
-  return inverse;
 }
 
 Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius) {
@@ -121,106 +171,30 @@ Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, doub
   hoods.radius = radius;
   hoods.offsets.assign(n + 1, 0);
   if (n == 0) return hoods;
-  const double radius2 = radius * radius;
-  const std::size_t cells = grid.cell_keys.size();
-  // Fixed blocks of consecutive cells, each filling its own row lists: the result does not depend
-  // on the thread schedule.
-  const std::size_t blocks = std::max<std::size_t>(1, std::min<std::size_t>(cells, n / 4096));
-  auto block_first_cell = [&](std::size_t block) { return cells * block / blocks; };
-  std::vector<std::vector<std::int32_t>> block_indices(blocks);
-  std::vector<std::int32_t> row_sizes(n);  // by sorted position
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
-    std::vector<double> cx, cy, cz;
-    std::vector<std::int32_t> cid;
-    auto& out = block_indices[block];
-    for (std::size_t cell = block_first_cell(block); cell < block_first_cell(block + 1); ++cell) {
-      cx.clear();
-      cy.clear();
-      cz.clear();
-      cid.clear();
-      const auto& coords = grid.cell_coords[cell];
-      for (int dz = -1; dz <= 1; ++dz) {
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            const Eigen::Matrix<std::int64_t, 3, 1> c =
-                coords + Eigen::Matrix<std::int64_t, 3, 1>(dx, dy, dz);
-            if ((c.array() < 0).any() || (c.array() > kMaxCell).any()) continue;
-            const std::int64_t other = FindCell(grid, MortonKey(c.x(), c.y(), c.z()));
-            if (other < 0) continue;
-            for (auto k = grid.cell_starts[other]; k < grid.cell_starts[other + 1]; ++k) {
-              const std::int32_t j = grid.order[static_cast<std::size_t>(k)];
-              const Eigen::Vector3d& q = points[static_cast<std::size_t>(j)];
-              cx.push_back(q.x());
-              cy.push_back(q.y());
-              cz.push_back(q.z());
-              cid.push_back(j);
-            }
-          }
-        }
-      }
-      const std::size_t candidates = cid.size();
-      for (auto k = grid.cell_starts[cell]; k < grid.cell_starts[cell + 1]; ++k) {
-        const std::int32_t i = grid.order[static_cast<std::size_t>(k)];
-        const Eigen::Vector3d& p = points[static_cast<std::size_t>(i)];
-        const std::size_t first = out.size();
-        out.resize(first + candidates);
-        std::int32_t* dst = out.data() + first;
-        std::size_t count = 0;
-        // Branch-free compaction: write every candidate, advance only past the kept ones.
-        for (std::size_t c = 0; c < candidates; ++c) {
-          const double ex = cx[c] - p.x(), ey = cy[c] - p.y(), ez = cz[c] - p.z();
-          const double d2 = ex * ex + ey * ey + ez * ez;
-          dst[count] = cid[c];
-          count += static_cast<std::size_t>((d2 <= radius2) & (cid[c] != i));
-        }
-        out.resize(first + count);
-        row_sizes[static_cast<std::size_t>(k)] = static_cast<std::int32_t>(count);
-      }
-    }
-    out.shrink_to_fit();
-  });
-  for (std::size_t k = 0; k < n; ++k) {
-    hoods.offsets[static_cast<std::size_t>(grid.order[k]) + 1] = row_sizes[k];
-  }
-  for (std::size_t i = 0; i < n; ++i) hoods.offsets[i + 1] += hoods.offsets[i];
+  // Two sweeps over the cells, the first counting, the second writing every row straight into
+  // its place: no intermediate lists, so the peak memory is one neighbourhood graph (the distance
+  // tests are cheap next to a second copy of ~180 indices a point).
+  std::vector<std::int64_t> row_sizes(n);
+  SweepCells(grid, points, radius,
+             [&](std::int32_t i, const std::int32_t* candidates, const std::uint8_t* keep,
+                 std::size_t count) {
+               std::int64_t size = 0;
+               for (std::size_t c = 0; c < count; ++c) size += keep[c] & (candidates[c] != i);
+               row_sizes[static_cast<std::size_t>(i)] = size;
+             });
+  for (std::size_t i = 0; i < n; ++i) hoods.offsets[i + 1] = hoods.offsets[i] + row_sizes[i];
+  std::vector<std::int64_t>().swap(row_sizes);
   hoods.indices.resize(static_cast<std::size_t>(hoods.offsets.back()));
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
-    const std::int32_t* src = block_indices[block].data();
-    const auto first = static_cast<std::size_t>(grid.cell_starts[block_first_cell(block)]);
-    const auto last = static_cast<std::size_t>(grid.cell_starts[block_first_cell(block + 1)]);
-    for (std::size_t k = first; k < last; ++k) {
-      const auto row = static_cast<std::size_t>(grid.order[k]);
-      std::copy(src, src + row_sizes[k], hoods.indices.begin() + hoods.offsets[row]);
-      src += row_sizes[k];
-    }
-    std::vector<std::int32_t>().swap(block_indices[block]);
-  });
+  SweepCells(grid, points, radius,
+             [&](std::int32_t i, const std::int32_t* candidates, const std::uint8_t* keep,
+                 std::size_t count) {
+               std::int32_t* dst =
+                   hoods.indices.data() + hoods.offsets[static_cast<std::size_t>(i)];
+               for (std::size_t c = 0; c < count; ++c) {
+                 if (keep[c] && candidates[c] != i) *dst++ = candidates[c];
+               }
+             });
   return hoods;
-}
-
-Neighborhoods Renumbered(const Neighborhoods& hoods, const std::vector<std::int32_t>& order) {
-  if (order.size() != hoods.size()) {
-    throw std::invalid_argument("Renumbered: permutation size differs from the neighbourhoods");
-  }
-  const std::vector<std::int32_t> new_index = InversePermutation(order);
-  const std::size_t n = order.size();
-  Neighborhoods out;
-  out.radius = hoods.radius;
-  out.offsets.assign(n + 1, 0);
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto old = static_cast<std::size_t>(order[k]);
-    out.offsets[k + 1] = out.offsets[k] + (hoods.end(old) - hoods.begin(old));
-  }
-  out.indices.resize(hoods.indices.size());
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
-    const auto old = static_cast<std::size_t>(order[k]);
-    std::int64_t dst = out.offsets[k];
-    for (auto e = hoods.begin(old); e < hoods.end(old); ++e) {
-      out.indices[static_cast<std::size_t>(dst++)] =
-          new_index[static_cast<std::size_t>(hoods.indices[static_cast<std::size_t>(e)])];
-    }
-  });
-  return out;
 }
 
 }  // namespace planeloc

@@ -33,17 +33,8 @@ struct Neighborhoods {
 std::vector<std::int32_t> MortonOrder(const std::vector<Eigen::Vector3d>& points, double cell_size);
 
 // All radius neighbourhoods, TBB-parallel, deterministic (the same neighbour order for any thread
-// count). Neighbours of a point are listed cell by cell in Morton order. Throws
-// std::invalid_argument for a non-finite point, radius <= 0 or more than 2^31 - 1 points.
+// count). Neighbours of a point are listed cell by cell, the 27 cells around it in a fixed order.
+// Throws std::invalid_argument for a non-finite point, radius <= 0 or more than 2^31 - 1 points.
 Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius);
-
-// The same neighbourhoods for the points renumbered by `order` (new point k = old point
-// order[k]): row k of the result is row order[k] of `hoods` with every index mapped to its new
-// number. With order = MortonOrder(...) this moves a neighbourhood graph between the input order
-// and the sorted order, in either direction (pass the inverse permutation to go back).
-Neighborhoods Renumbered(const Neighborhoods& hoods, const std::vector<std::int32_t>& order);
-
-// inverse[order[k]] = k.
-std::vector<std::int32_t> InversePermutation(const std::vector<std::int32_t>& order);
 
 }  // namespace planeloc

@@ -267,11 +267,24 @@ TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
   options.Check();
   const std::size_t n = points.size();
   const std::vector<std::int32_t> order = MortonOrder(points, options.radius());
+  // Breaks in the sorted sequence: ~n for a map in hash order, a few per point that a float
+  // round trip moved across a cell border for a map written by `planeloc map build` (already
+  // sorted), for which the input order is as local as the sorted copy.
+  std::size_t breaks = 0;
+  for (std::size_t k = 1; k < n; ++k) breaks += order[k] != order[k - 1] + 1;
+  if (breaks <= n / 100) {
+    TensorVotingResult result = EmptyResult(n);
+    result.neighborhoods = FindNeighborhoods(points, options.radius());
+    Vote(points, options, result.neighborhoods, result);
+    return result;
+  }
   std::vector<Eigen::Vector3d> sorted_points(n);
   ParallelFor(n, [&](std::size_t k) { sorted_points[k] = points[order[k]]; });
-  Neighborhoods sorted_hoods = FindNeighborhoods(sorted_points, options.radius());
   TensorVotingResult sorted = EmptyResult(n);
-  Vote(sorted_points, options, sorted_hoods, sorted);
+  {
+    const Neighborhoods sorted_hoods = FindNeighborhoods(sorted_points, options.radius());
+    Vote(sorted_points, options, sorted_hoods, sorted);
+  }
   std::vector<Eigen::Vector3d>().swap(sorted_points);
 
   TensorVotingResult result = EmptyResult(n);
@@ -283,7 +296,9 @@ TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
     result.ball[i] = sorted.ball[k];
     result.classes[i] = sorted.classes[k];
   });
-  result.neighborhoods = Renumbered(sorted_hoods, InversePermutation(order));
+  // Searching again in the input order costs about what renumbering the sorted graph would, and
+  // never holds two graphs in memory.
+  result.neighborhoods = FindNeighborhoods(points, options.radius());
   return result;
 }
 
