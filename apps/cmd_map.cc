@@ -15,6 +15,7 @@
 #include "planeloc/map/map_builder.h"
 #include "planeloc/map/map_options.h"
 #include "planeloc/map/map_planes.h"
+#include "planeloc/map/plane_map_eval.h"
 
 namespace planeloc::cli {
 namespace {
@@ -31,6 +32,7 @@ struct PlanesArgs {
   std::string out;
   std::string ply;
   std::string options_yaml;
+  std::string gt;
   double sigma = TensorVotingOptions().sigma;
   std::vector<double> up;
 };
@@ -51,10 +53,34 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given) {
   if (args.up.size() == 3) options.plane_extraction.up = {args.up[0], args.up[1], args.up[2]};
   const PointCloud map = ReadPointCloud(args.map);
   spdlog::info("map planes: {} points from {}", map.size(), args.map);
-  const MapPlanesOutput output = RunMapPlanes(map, options);
+  MapPlanesOutput output = RunMapPlanes(map, options);
   const PlaneMap& planes = output.extraction.plane_map;
   spdlog::info("map planes: tensor voting {:.2f} s, plane extraction {:.2f} s, {} planes",
                output.voting_seconds, output.extraction_seconds, planes.planes.size());
+  if (!args.gt.empty()) {
+    // Ground truth (the simulator's world/planes_gt.json): issue 4's acceptance numbers, logged
+    // and stored in the stats of planes.json.
+    PlaneMapEvalOptions eval_options;
+    eval_options.point_area = 0.01;  // `map build`'s default 0.10 m voxels
+    const PlaneMapEvaluation evaluation = EvaluatePlaneMap(
+        map.points, output.extraction.point_plane, planes, ReadPlaneMap(args.gt), eval_options);
+    for (const GtPlaneMatch& m : evaluation.checked) {
+      if (!m.good) {
+        spdlog::warn(
+            "map planes: GT plane {} ({}, {:.0f} m^2 visible) not matched: extracted {} "
+            "(support {:.0f} %), angle {:.2f} deg, offset {:.3f} m",
+            m.gt_id, m.kind, m.visible_area, m.extracted_id, 100.0 * m.support, m.angle_deg,
+            m.offset);
+      }
+    }
+    spdlog::info(
+        "map planes vs {}: {}/{} GT ground/facade planes with >= {} m^2 visible matched "
+        "(< {} deg, < {} m); {:.2f} % of {} plane points within {} m of a GT plane",
+        args.gt, evaluation.good, evaluation.checked.size(), eval_options.min_visible_area,
+        eval_options.max_angle_deg, eval_options.max_offset, 100.0 * evaluation.labelled_on_gt,
+        evaluation.labelled_points, eval_options.labelled_distance);
+    output.extraction.plane_map.stats["gt_evaluation"] = evaluation.ToJson();
+  }
   WritePlaneMap(args.out, planes);
   if (!args.ply.empty()) {
     PointCloud labelled;
@@ -98,6 +124,9 @@ CommandRunner SetupMap(CLI::App& app) {
       ->add_option("--up", planes_args->up,
                    "Up direction of the map frame (default 0 -1 0: KITTI camera world)")
       ->expected(3);
+  planes->add_option("--gt", planes_args->gt,
+                     "Ground-truth planes (a simulated world's world/planes_gt.json): log and "
+                     "store the accuracy of the extracted planes");
 
   return [build, planes, build_args, planes_args, sigma]() {
     if (build->parsed()) return RunBuild(*build_args);

@@ -6,6 +6,8 @@
 #include <deque>
 #include <numbers>
 #include <numeric>
+#include <optional>
+#include <random>
 
 #include "planeloc/util/error.h"
 
@@ -116,6 +118,10 @@ std::vector<Patch> FindPatches(const std::vector<Eigen::Vector3d>& points,
                         patch.rms)) {
       continue;
     }
+    // Members the fit left out go back to the pool: typically the far side of a small step (a
+    // kerb) that the growth crossed, which belongs to the next patch.
+    for (const int m : members) assigned[m] = -1;
+    for (const int i : inliers) assigned[i] = id;
     patch.points = std::move(inliers);
     patches.push_back(std::move(patch));
   }
@@ -263,22 +269,62 @@ void PlaneExtractionOptions::Check() const {
   require(kind_angle_deg > 0.0 && kind_angle_deg < 45.0, "kind_angle_deg must be in (0, 45)");
 }
 
+namespace {
+
+// The plane through three points that the most of `sample` lie within `band` of (deterministic:
+// a fixed-seed generator, so the same patch always gives the same plane).
+std::optional<Plane> ConsensusPlane(const std::vector<Eigen::Vector3d>& points,
+                                    const std::vector<int>& sample, double band) {
+  constexpr int kTrials = 128;
+  std::mt19937 rng(static_cast<std::uint32_t>(sample.size()));
+  std::uniform_int_distribution<std::size_t> pick(0, sample.size() - 1);
+  std::optional<Plane> best;
+  std::size_t best_count = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const Eigen::Vector3d& a = points[sample[pick(rng)]];
+    const Eigen::Vector3d& b = points[sample[pick(rng)]];
+    const Eigen::Vector3d& c = points[sample[pick(rng)]];
+    const Eigen::Vector3d normal = (b - a).cross(c - a);
+    if (normal.norm() < 1e-6) continue;  // (nearly) collinear triple
+    const Plane plane = Plane::FromPointAndNormal(a, normal.normalized());
+    std::size_t count = 0;
+    for (const int i : sample) count += std::abs(plane.SignedDistance(points[i])) <= band;
+    if (count > best_count) {
+      best_count = count;
+      best = plane;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 bool FitPlaneRobust(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices,
                     double inlier_distance, Plane& plane, std::vector<int>& inliers, double& rms) {
-  // Shrinking trimming thresholds: a first fit pulled by outliers still keeps the true inliers
-  // within 4x the final threshold, and each refit moves closer to them.
-  constexpr double kScales[] = {4.0, 2.0, 1.0, 1.0};
-  inliers = indices;
-  for (const double scale : kScales) {
+  if (indices.size() < 3) return false;
+  // Start from the consensus plane of a sample, not from a least-squares fit of all points: a
+  // patch that grew over a small step (road and the kerb-high sidewalk, 12 cm apart) has a
+  // least-squares plane between the two layers that keeps both within the threshold, a fixed point
+  // of plain trimming. The consensus plane sits on the dominant layer.
+  std::vector<int> sample;
+  const std::size_t stride = std::max<std::size_t>(1, indices.size() / 2000);
+  for (std::size_t k = 0; k < indices.size(); k += stride) sample.push_back(indices[k]);
+  const std::optional<Plane> start = ConsensusPlane(points, sample, 0.5 * inlier_distance);
+  if (!start) return false;
+  plane = *start;
+  for (int round = 0; round < 3; ++round) {
+    inliers.clear();
+    for (const int i : indices) {
+      if (std::abs(plane.SignedDistance(points[i])) <= inlier_distance) inliers.push_back(i);
+    }
     if (inliers.size() < 3) return false;
     PlaneSums sums;
     for (const int i : inliers) sums.Add(points[i]);
     plane = sums.Fit();
-    std::vector<int> kept;
-    for (const int i : indices) {
-      if (std::abs(plane.SignedDistance(points[i])) <= scale * inlier_distance) kept.push_back(i);
-    }
-    inliers = std::move(kept);
+  }
+  inliers.clear();
+  for (const int i : indices) {
+    if (std::abs(plane.SignedDistance(points[i])) <= inlier_distance) inliers.push_back(i);
   }
   if (inliers.size() < 3) return false;
   PlaneSums sums;

@@ -57,8 +57,10 @@ PlaneExtractionResult ExtractPlanes(const std::vector<Eigen::Vector3d>& points,
                                     const TensorVotingResult& voting,
                                     const PlaneExtractionOptions& options);
 
-// Robust plane fit used per patch: total least squares, refitted on the points within 4, 2, 1 and
-// 1 times `inlier_distance` of the previous fit (a pulled first fit still keeps the inliers).
+// Robust plane fit used per patch: a deterministic consensus (RANSAC) plane of up to 2000 of the
+// points (band inlier_distance / 2), then total least squares refitted three times on the points
+// within `inlier_distance`. Unlike trimming from a least-squares start it settles on the dominant
+// layer of two parallel surfaces a few centimetres apart (road and sidewalk).
 // Returns false when fewer than 3 inliers remain. Exposed for tests.
 bool FitPlaneRobust(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices,
                     double inlier_distance, Plane& plane, std::vector<int>& inliers, double& rms);

@@ -1,0 +1,181 @@
+#include "planeloc/map/plane_map_eval.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <stdexcept>
+
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+// A GT plane's polygon in its own 2-D basis, for point-in-polygon tests.
+struct FlatPolygon {
+  Eigen::Vector3d u, v;
+  std::vector<Eigen::Vector2d> ring;
+
+  explicit FlatPolygon(const MapPlane& plane) {
+    const Eigen::Vector3d& n = plane.plane_in_map.normal;
+    const Eigen::Vector3d helper =
+        std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    u = n.cross(helper).normalized();
+    v = n.cross(u);
+    for (const auto& p : plane.polygon) ring.emplace_back(p.dot(u), p.dot(v));
+  }
+
+  // Crossing-number test; a plane without an outline is unbounded.
+  bool Contains(const Eigen::Vector3d& p) const {
+    if (ring.size() < 3) return true;
+    const Eigen::Vector2d q(p.dot(u), p.dot(v));
+    bool inside = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+      const Eigen::Vector2d& a = ring[i];
+      const Eigen::Vector2d& b = ring[j];
+      if ((a.y() > q.y()) != (b.y() > q.y()) &&
+          q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+        inside = !inside;
+      }
+    }
+    return inside;
+  }
+};
+
+// Per checked-kind GT plane: visible point count and votes per extracted id.
+struct Tally {
+  std::vector<std::size_t> visible;
+  std::vector<std::map<int, std::size_t>> labels;
+  std::size_t labelled = 0, labelled_near = 0;
+
+  explicit Tally(std::size_t planes) : visible(planes, 0), labels(planes) {}
+  void Merge(const Tally& other) {
+    for (std::size_t g = 0; g < visible.size(); ++g) {
+      visible[g] += other.visible[g];
+      for (const auto& [id, count] : other.labels[g]) labels[g][id] += count;
+    }
+    labelled += other.labelled;
+    labelled_near += other.labelled_near;
+  }
+};
+
+}  // namespace
+
+void PlaneMapEvalOptions::Check() const {
+  if (!(point_area > 0.0)) throw OptionsError("PlaneMapEvalOptions.point_area must be > 0 (m^2)");
+  if (!(min_visible_area >= 0.0)) {
+    throw OptionsError("PlaneMapEvalOptions.min_visible_area must be >= 0 (m^2)");
+  }
+  if (!(on_plane_distance > 0.0)) {
+    throw OptionsError("PlaneMapEvalOptions.on_plane_distance must be > 0 (m)");
+  }
+  if (!(max_angle_deg > 0.0)) throw OptionsError("PlaneMapEvalOptions.max_angle_deg must be > 0");
+  if (!(max_offset > 0.0)) throw OptionsError("PlaneMapEvalOptions.max_offset must be > 0 (m)");
+  if (!(labelled_distance > 0.0)) {
+    throw OptionsError("PlaneMapEvalOptions.labelled_distance must be > 0 (m)");
+  }
+}
+
+nlohmann::json PlaneMapEvaluation::ToJson() const {
+  nlohmann::json planes = nlohmann::json::array();
+  for (const GtPlaneMatch& m : checked) {
+    planes.push_back({{"gt_id", m.gt_id},
+                      {"kind", m.kind},
+                      {"visible_area", m.visible_area},
+                      {"extracted_id", m.extracted_id},
+                      {"support", m.support},
+                      {"angle_deg", m.angle_deg},
+                      {"offset", m.offset},
+                      {"good", m.good}});
+  }
+  return {{"checked", checked.size()},
+          {"good", good},
+          {"labelled_points", labelled_points},
+          {"labelled_on_gt", labelled_on_gt},
+          {"planes", planes}};
+}
+
+PlaneMapEvaluation EvaluatePlaneMap(const std::vector<Eigen::Vector3d>& map_points,
+                                    const std::vector<int>& point_plane, const PlaneMap& extracted,
+                                    const PlaneMap& gt, const PlaneMapEvalOptions& options) {
+  options.Check();
+  if (point_plane.size() != map_points.size()) {
+    throw std::invalid_argument("EvaluatePlaneMap: one plane label per map point expected");
+  }
+  std::vector<const MapPlane*> candidates;
+  std::vector<FlatPolygon> outlines;
+  for (const MapPlane& g : gt.planes) {
+    if (std::find(options.kinds.begin(), options.kinds.end(), g.kind) == options.kinds.end()) {
+      continue;
+    }
+    candidates.push_back(&g);
+    outlines.emplace_back(g);
+  }
+  const Tally tally = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, map_points.size(), 4096), Tally(candidates.size()),
+      [&](const tbb::blocked_range<std::size_t>& range, Tally local) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const Eigen::Vector3d& p = map_points[i];
+          for (std::size_t g = 0; g < candidates.size(); ++g) {
+            if (std::abs(candidates[g]->plane_in_map.SignedDistance(p)) <
+                    options.on_plane_distance &&
+                outlines[g].Contains(p)) {
+              ++local.visible[g];
+              if (point_plane[i] >= 0) ++local.labels[g][point_plane[i]];
+            }
+          }
+          if (point_plane[i] < 0) continue;
+          ++local.labelled;
+          for (const MapPlane& g : gt.planes) {
+            if (std::abs(g.plane_in_map.SignedDistance(p)) < options.labelled_distance) {
+              ++local.labelled_near;
+              break;
+            }
+          }
+        }
+        return local;
+      },
+      [](Tally a, const Tally& b) {
+        a.Merge(b);
+        return a;
+      });
+
+  std::map<int, const MapPlane*> by_id;
+  for (const MapPlane& p : extracted.planes) by_id[p.id] = &p;
+  PlaneMapEvaluation evaluation;
+  for (std::size_t g = 0; g < candidates.size(); ++g) {
+    const double area = static_cast<double>(tally.visible[g]) * options.point_area;
+    if (area < options.min_visible_area) continue;
+    GtPlaneMatch match;
+    match.gt_id = candidates[g]->id;
+    match.kind = candidates[g]->kind;
+    match.visible_area = area;
+    std::size_t best = 0;
+    for (const auto& [id, count] : tally.labels[g]) {  // ascending ids: ties go to the lower id
+      if (count > best && by_id.count(id)) {
+        best = count;
+        match.extracted_id = id;
+      }
+    }
+    if (match.extracted_id >= 0) {
+      const MapPlane& e = *by_id.at(match.extracted_id);
+      match.support = static_cast<double>(best) / static_cast<double>(tally.visible[g]);
+      match.angle_deg =
+          e.plane_in_map.AngleTo(candidates[g]->plane_in_map) * 180.0 / std::numbers::pi;
+      match.offset = std::abs(candidates[g]->plane_in_map.SignedDistance(e.centroid));
+      match.good = match.angle_deg < options.max_angle_deg && match.offset < options.max_offset;
+    }
+    evaluation.good += match.good;
+    evaluation.checked.push_back(match);
+  }
+  evaluation.labelled_points = tally.labelled;
+  evaluation.labelled_on_gt = tally.labelled == 0 ? 0.0
+                                                  : static_cast<double>(tally.labelled_near) /
+                                                        static_cast<double>(tally.labelled);
+  return evaluation;
+}
+
+}  // namespace planeloc
