@@ -99,20 +99,18 @@ std::int64_t FindCell(const Grid& grid, std::uint64_t key) {
   return it - grid.cell_keys.begin();
 }
 
-// For every point i, calls visit(i, candidates, keep, count) with the points of the 27 cells
-// around i's cell and keep[c] = (|p_candidate - p_i| <= radius), i itself included. Cells are
+// For every point i, calls visit(i, candidates, d2, count) with the points of the 27 cells
+// around i's cell and their squared distances d2[c] to i (i itself included). Cells are
 // processed TBB-parallel; visits of one point never overlap.
 template <typename Visit>
-void SweepCells(const Grid& grid, const std::vector<Eigen::Vector3d>& points, double radius,
-                Visit&& visit) {
-  const double radius2 = radius * radius;
+void SweepCells(const Grid& grid, const std::vector<Eigen::Vector3d>& points, Visit&& visit) {
   const std::size_t cells = grid.cell_keys.size();
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, cells, 16),
       [&](const tbb::blocked_range<std::size_t>& range) {
         std::vector<double> cx, cy, cz;
         std::vector<std::int32_t> cid;
-        std::vector<std::uint8_t> keep;
+        std::vector<double> d2;
         for (std::size_t cell = range.begin(); cell != range.end(); ++cell) {
           cx.clear();
           cy.clear();
@@ -139,18 +137,18 @@ void SweepCells(const Grid& grid, const std::vector<Eigen::Vector3d>& points, do
             }
           }
           const std::size_t count = cid.size();
-          keep.resize(count);
+          d2.resize(count);
           for (auto k = grid.cell_starts[cell]; k < grid.cell_starts[cell + 1]; ++k) {
             const std::int32_t i = grid.order[static_cast<std::size_t>(k)];
             const Eigen::Vector3d& p = points[static_cast<std::size_t>(i)];
             const double px = p.x(), py = p.y(), pz = p.z();
             // Absolute coordinates: d2(i, j) and d2(j, i) are the same float, so the neighbour
             // relation is exactly symmetric.
-            for (std::size_t c = 0; c < count; ++c) {
+            for (std::size_t c = 0; c < count; ++c) {  // vectorizes
               const double ex = cx[c] - px, ey = cy[c] - py, ez = cz[c] - pz;
-              keep[c] = (ex * ex + ey * ey + ez * ez) <= radius2;
+              d2[c] = ex * ex + ey * ey + ez * ez;
             }
-            visit(i, cid.data(), keep.data(), count);
+            visit(i, cid.data(), d2.data(), count);
           }
         }
       });
@@ -174,26 +172,28 @@ Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, doub
   // Two sweeps over the cells, the first counting, the second writing every row straight into
   // its place: no intermediate lists, so the peak memory is one neighbourhood graph (the distance
   // tests are cheap next to a second copy of ~180 indices a point).
+  const double radius2 = radius * radius;
   std::vector<std::int64_t> row_sizes(n);
-  SweepCells(grid, points, radius,
-             [&](std::int32_t i, const std::int32_t* candidates, const std::uint8_t* keep,
-                 std::size_t count) {
-               std::int64_t size = 0;
-               for (std::size_t c = 0; c < count; ++c) size += keep[c] & (candidates[c] != i);
-               row_sizes[static_cast<std::size_t>(i)] = size;
-             });
+  SweepCells(
+      grid, points,
+      [&](std::int32_t i, const std::int32_t* candidates, const double* d2, std::size_t count) {
+        std::int64_t size = 0;
+        for (std::size_t c = 0; c < count; ++c) {
+          size += (d2[c] <= radius2) & (candidates[c] != i);
+        }
+        row_sizes[static_cast<std::size_t>(i)] = size;
+      });
   for (std::size_t i = 0; i < n; ++i) hoods.offsets[i + 1] = hoods.offsets[i] + row_sizes[i];
   std::vector<std::int64_t>().swap(row_sizes);
   hoods.indices.resize(static_cast<std::size_t>(hoods.offsets.back()));
-  SweepCells(grid, points, radius,
-             [&](std::int32_t i, const std::int32_t* candidates, const std::uint8_t* keep,
-                 std::size_t count) {
-               std::int32_t* dst =
-                   hoods.indices.data() + hoods.offsets[static_cast<std::size_t>(i)];
-               for (std::size_t c = 0; c < count; ++c) {
-                 if (keep[c] && candidates[c] != i) *dst++ = candidates[c];
-               }
-             });
+  SweepCells(
+      grid, points,
+      [&](std::int32_t i, const std::int32_t* candidates, const double* d2, std::size_t count) {
+        std::int32_t* dst = hoods.indices.data() + hoods.offsets[static_cast<std::size_t>(i)];
+        for (std::size_t c = 0; c < count; ++c) {
+          if (d2[c] <= radius2 && candidates[c] != i) *dst++ = candidates[c];
+        }
+      });
   return hoods;
 }
 
