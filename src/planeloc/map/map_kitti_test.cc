@@ -53,7 +53,7 @@ TEST_P(KittiScanPlanesTest, FindsRoadBelowSensorAndFacades) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kitti00, KittiScanPlanesTest,
-                         ::testing::Values("000094.bin", "000198.bin"));
+                         ::testing::Values("000094.bin", "000095.bin", "000198.bin", "000199.bin"));
 
 }  // namespace
 }  // namespace planeloc
