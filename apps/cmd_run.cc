@@ -30,12 +30,10 @@ struct RunArgs {
 };
 
 int Run(const RunArgs& args) {
-  if (!args.planes.empty()) {
-    throw InputError(args.planes, 0, "plane-constrained mode is not implemented yet",
-                     "use --no-planes");
-  }
-  if (!args.no_planes) {
-    throw InputError("", 0, "no plane map given", "pass --no-planes (visual odometry only)");
+  if (args.planes.empty() && !args.no_planes) {
+    throw InputError("", 0, "no plane map given",
+                     "pass --planes planes.json (from `planeloc map planes`) or --no-planes "
+                     "(visual odometry only)");
   }
   RunOptions options;
   options.sequence = args.sequence;
@@ -49,6 +47,7 @@ int Run(const RunArgs& args) {
   options.format = ParseTrajectoryFormat(args.format);
   if (!args.stats.empty()) options.stats_path = args.stats;
   if (!args.config.empty()) options.settings_path = args.config;
+  if (!args.planes.empty()) options.planes_path = args.planes;
   options.deterministic = args.deterministic;
   options.threads = args.threads;
   options.max_frames = args.frames;
@@ -59,13 +58,18 @@ int Run(const RunArgs& args) {
       summary.frames, summary.seconds, summary.frames / std::max(summary.seconds, 1e-9),
       summary.tracked, summary.lost, summary.skipped, summary.keyframes,
       summary.mean_tracked_points, summary.median_ba_reprojection_px);
+  if (options.planes_path) {
+    spdlog::info("plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average",
+                 summary.planes, summary.mean_ba_plane_residuals);
+  }
   spdlog::info("trajectory: {}", args.out);
   return 0;
 }
 
 const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
   auto args = std::make_shared<RunArgs>();
-  CLI::App* cmd = app.add_subcommand("run", "Track a stereo sequence (visual odometry)");
+  CLI::App* cmd = app.add_subcommand(
+      "run", "Track a stereo sequence (visual odometry, or localization in a plane map)");
   cmd->add_option("--sequence", args->sequence,
                   "KITTI odometry sequence folder or raw drive folder")
       ->required();
@@ -75,7 +79,9 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
                                "\"12 numbers\": frame 0's world_from_cam, row-major 3x4");
   from->excludes(pose);
   auto* no_planes = cmd->add_flag("--no-planes", args->no_planes, "Visual odometry only");
-  auto* planes = cmd->add_option("--planes", args->planes, "Plane map (not implemented yet)");
+  auto* planes = cmd->add_option(
+      "--planes", args->planes,
+      "Plane map (planes.json of `planeloc map planes`, in the frame of the initial pose)");
   no_planes->excludes(planes);
   cmd->add_option("--out", args->out, "Output trajectory (one pose per frame)")->required();
   cmd->add_option("--format", args->format, "kitti | tum")->capture_default_str();

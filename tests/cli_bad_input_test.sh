@@ -50,6 +50,11 @@ expect_error "sim non-empty out" "nonempty" -- "$planeloc" sim --out "$work/none
 
 expect_error "run missing sequence" "$work/nope" -- \
   "$planeloc" run --sequence "$work/nope" --no-planes --out "$work/t.txt"
+expect_error "run missing plane map" "$work/nope.json" -- \
+  "$planeloc" run --sequence "$work/nope" --planes "$work/nope.json" --out "$work/t.txt"
+printf '{"planes": [{"id": 0, "normal": [0, 0' >"$work/broken.json"
+expect_error "run corrupt plane map" "broken.json" -- \
+  "$planeloc" run --sequence "$work/nope" --planes "$work/broken.json" --out "$work/t.txt"
 
 : >"$work/empty.xyz"
 expect_error "map planes empty map" "empty.xyz" -- \

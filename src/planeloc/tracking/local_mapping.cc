@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
+#include <optional>
 #include <set>
 
 namespace planeloc {
@@ -60,9 +62,21 @@ int CullRecentPoints(SparseMap& map, std::vector<int>& recent_point_ids, int cur
   return erased;
 }
 
-WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id,
-                               const TrackerOptions& options) {
-  std::vector<int> local = map.BestCovisible(keyframe_id, options.ba_window_keyframes - 1);
+bool IsTurning(const SparseMap& map, int keyframe_id, const TrackerOptions& options) {
+  const auto& keyframes = map.keyframes();
+  auto it = keyframes.find(keyframe_id);
+  if (it == keyframes.end()) return false;
+  for (int back = 0; back < options.ba_window_keyframes && it != keyframes.begin(); ++back) --it;
+  const double angle = RotationAngle(map.keyframe(keyframe_id).cam_from_world.rotation,
+                                     it->second.cam_from_world.rotation);
+  return angle > options.ba_turn_angle_deg * std::numbers::pi / 180.0;
+}
+
+WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const TrackerOptions& options,
+                               const PlaneAssociator* planes) {
+  const int window_size = IsTurning(map, keyframe_id, options) ? options.ba_window_keyframes_turn
+                                                               : options.ba_window_keyframes;
+  std::vector<int> local = map.BestCovisible(keyframe_id, window_size - 1);
   local.push_back(keyframe_id);
   std::sort(local.begin(), local.end());
   const std::set<int> local_set(local.begin(), local.end());
@@ -101,9 +115,13 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id,
   for (int kf_id : fixed) add_keyframe(kf_id, true);
 
   const double scale2 = map.scale().scale_factor * map.scale().scale_factor;
+  std::set<int> plane_ids;
   for (int id : point_ids) {
     const MapPoint& point = map.point(id);
-    problem.points.push_back({id, point.point_in_world, std::nullopt});
+    std::optional<int> plane_id;
+    if (planes) plane_id = planes->Associate(point.point_in_world);
+    if (plane_id) plane_ids.insert(*plane_id);
+    problem.points.push_back({id, point.point_in_world, plane_id});
     for (const auto& [kf_id, keypoint] : point.observations) {
       if (!local_set.count(kf_id) && !fixed.count(kf_id)) continue;
       const Keyframe& kf = map.keyframe(kf_id);
@@ -117,6 +135,9 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id,
       obs.information = 1.0 / std::pow(scale2, kp.octave);
       problem.observations.push_back(obs);
     }
+  }
+  for (const int plane_id : plane_ids) {
+    problem.planes.push_back({plane_id, planes->plane(plane_id).plane_in_map});
   }
   return problem;
 }

@@ -8,6 +8,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/optim/window_ba.h"
 #include "planeloc/tracking/map.h"
+#include "planeloc/tracking/plane_association.h"
 #include "planeloc/tracking/settings.h"
 
 namespace planeloc {
@@ -28,9 +29,16 @@ int CullRecentPoints(SparseMap& map, std::vector<int>& recent_point_ids, int cur
 // The local BA window around `keyframe_id`: it and its best covisible keyframes are free; other
 // keyframes observing the window's points are fixed anchors (the most connected first). The
 // first keyframe of the map (the given initial pose) is always fixed, and the oldest window
-// keyframe is fixed when nothing else is (gauge freedom).
-WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id,
-                               const TrackerOptions& options);
+// keyframe is fixed when nothing else is (gauge freedom). The window has
+// options.ba_window_keyframes keyframes, options.ba_window_keyframes_turn at a turn (see
+// IsTurning). With `planes`, every window point that lies on a LiDAR plane gets its plane id
+// and the planes used are added to the problem.
+WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const TrackerOptions& options,
+                               const PlaneAssociator* planes = nullptr);
+
+// True when the heading changed by more than options.ba_turn_angle_deg between `keyframe_id`
+// and the keyframe options.ba_window_keyframes keyframes before it (or the oldest one).
+bool IsTurning(const SparseMap& map, int keyframe_id, const TrackerOptions& options);
 
 struct BaApplyStats {
   int keyframes = 0;                  // poses updated

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "planeloc/io/plane_map.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/progress.h"
 
@@ -93,10 +94,19 @@ Rigid3d ReadFirstPose(const std::filesystem::path& path) {
 }
 
 RunSummary RunSequence(const RunOptions& run) {
+  RunSummary summary;
+  std::optional<PlaneMap> plane_map;  // read first: a bad plane map fails before any work
+  if (run.planes_path) {
+    plane_map = ReadPlaneMap(*run.planes_path);
+    summary.planes = static_cast<int>(plane_map->planes.size());
+    if (plane_map->planes.empty()) {
+      spdlog::warn("{}: the plane map has no planes; the run is visual odometry only",
+                   run.planes_path->string());
+    }
+  }
   const KittiSequence sequence = KittiSequence::Open(run.sequence, run.cameras);
   CheckInput(sequence.size() > 0, run.sequence.string(), 0, "the sequence has no frames",
              "point --sequence at a KITTI odometry sequence or raw drive folder");
-  RunSummary summary;
   summary.options = EffectiveOptions(run, sequence.camera());
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(summary.options.num_threads));
@@ -113,7 +123,8 @@ RunSummary RunSequence(const RunOptions& run) {
   }
   const std::size_t total =
       run.max_frames > 0 ? std::min<std::size_t>(run.max_frames, sequence.size()) : sequence.size();
-  Tracker tracker(sequence.camera(), summary.options, run.world_from_cam_initial);
+  Tracker tracker(sequence.camera(), summary.options, run.world_from_cam_initial,
+                  plane_map ? &*plane_map : nullptr);
   std::optional<ProgressBar> progress;
   if (run.show_progress) progress.emplace("run", total, "frames");
   const auto start = std::chrono::steady_clock::now();
@@ -144,7 +155,8 @@ RunSummary RunSequence(const RunOptions& run) {
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   std::vector<double> ba_medians;
-  double tracked_points = 0;
+  double tracked_points = 0, plane_residuals = 0;
+  int bas = 0;
   for (const FrameStats& s : summary.stats) {
     ++summary.frames;
     summary.skipped += s.skipped ? 1 : 0;
@@ -153,7 +165,12 @@ RunSummary RunSequence(const RunOptions& run) {
     summary.keyframes += s.keyframe ? 1 : 0;
     tracked_points += s.tracked_points;
     if (s.ba_median_reprojection_px) ba_medians.push_back(*s.ba_median_reprojection_px);
+    if (s.ba_plane_residuals) {
+      plane_residuals += *s.ba_plane_residuals;
+      ++bas;
+    }
   }
+  if (bas > 0) summary.mean_ba_plane_residuals = plane_residuals / bas;
   if (summary.frames > 0) summary.mean_tracked_points = tracked_points / summary.frames;
   if (!ba_medians.empty()) {
     std::sort(ba_medians.begin(), ba_medians.end());

@@ -24,7 +24,10 @@ struct RunOptions {
   TrajectoryFormat format = TrajectoryFormat::kKitti;
   std::optional<std::filesystem::path> stats_path;     // JSON lines, one per frame
   std::optional<std::filesystem::path> settings_path;  // ORB-SLAM2 / planeloc YAML
-  bool write_effective_settings = true;                // <trajectory>.config.yaml
+  // planes.json of `planeloc map planes`, in the frame of world_from_cam_initial; none: visual
+  // odometry only (the baseline).
+  std::optional<std::filesystem::path> planes_path;
+  bool write_effective_settings = true;  // <trajectory>.config.yaml
   bool deterministic = false;
   int threads = 0;     // 0: keep the settings' value
   int max_frames = 0;  // 0: all
@@ -39,6 +42,8 @@ struct RunSummary {
   int keyframes = 0;
   double mean_tracked_points = 0;
   double median_ba_reprojection_px = 0;  // median over the BA medians reported
+  int planes = 0;                        // planes in the plane map (0: visual only)
+  double mean_ba_plane_residuals = 0;    // point-to-plane residuals a local BA, on average
   double seconds = 0;                    // wall time of the tracking loop
   std::vector<FrameStats> stats;         // per frame
   std::vector<Rigid3d> world_from_cam;   // per frame, as written

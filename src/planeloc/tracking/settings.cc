@@ -80,6 +80,13 @@ const std::vector<Key>& Keys() {
       D("LocalBA.lambda", [](O& o) -> double& { return o.ba.lambda; }),
       D("LocalBA.planeSigma", [](O& o) -> double& { return o.ba.plane_sigma; }),
       D("LocalBA.planeHuber", [](O& o) -> double& { return o.ba.plane_huber; }),
+      D("LocalBA.planeOutlierDistance",
+        [](O& o) -> double& { return o.ba.plane_outlier_distance; }),
+      I("LocalBA.windowKeyframesTurn", [](O& o) -> int& { return o.ba_window_keyframes_turn; }),
+      D("LocalBA.turnAngleDeg", [](O& o) -> double& { return o.ba_turn_angle_deg; }),
+      D("Planes.maxDistance", [](O& o) -> double& { return o.planes.max_distance; }),
+      D("Planes.polygonMargin", [](O& o) -> double& { return o.planes.polygon_margin; }),
+      D("Planes.minPlaneArea", [](O& o) -> double& { return o.planes.min_plane_area; }),
       B("System.deterministic", [](O& o) -> bool& { return o.deterministic; }),
       I("System.threads", [](O& o) -> int& { return o.num_threads; }),
   };
@@ -170,6 +177,10 @@ void TrackerOptions::Check() const {
   Require(triangulation_neighbours >= 1, "triangulation_neighbours must be >= 1");
   Require(ba_window_keyframes >= 1, "ba_window_keyframes must be >= 1");
   Require(ba_max_fixed_keyframes >= 0, "ba_max_fixed_keyframes must be >= 0");
+  Require(ba_window_keyframes_turn >= ba_window_keyframes,
+          "ba_window_keyframes_turn must be >= ba_window_keyframes");
+  Require(ba_turn_angle_deg > 0.0, "ba_turn_angle_deg must be > 0");
+  planes.Check();
   Require(min_found_ratio >= 0 && min_found_ratio <= 1, "min_found_ratio must be in [0, 1]");
   Require(min_point_observations >= 1, "min_point_observations must be >= 1");
   Require(num_threads >= 1, "num_threads must be >= 1");

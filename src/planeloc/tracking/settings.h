@@ -18,6 +18,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/optim/pose_optimizer.h"
 #include "planeloc/optim/window_ba.h"
+#include "planeloc/tracking/plane_association.h"
 
 namespace planeloc {
 
@@ -25,7 +26,11 @@ struct TrackerOptions {
   OrbOptions orb;
   StereoMatchOptions stereo;
   PoseOptimizerOptions pose;
-  WindowBaOptions ba;
+  WindowBaOptions ba = [] {
+    WindowBaOptions o;
+    o.lambda = 0.5;  // used only with a plane map, see `planes` below
+    return o;
+  }();
 
   // Stereo points closer than close_depth_baselines * baseline are "close" (ORB-SLAM2 ThDepth):
   // reliable depth, used to create map points and to decide keyframes.
@@ -68,6 +73,16 @@ struct TrackerOptions {
   // max_fixed_keyframes other observers of the window's points (fixed anchors).
   int ba_window_keyframes = 10;
   int ba_max_fixed_keyframes = 20;
+  // The window grows to ba_window_keyframes_turn while the heading changed by more than
+  // ba_turn_angle_deg over the last ba_window_keyframes keyframes: at a street corner, where
+  // tracking is weakest, the paper's sliding window "reaches the maximum value".
+  int ba_window_keyframes_turn = 20;
+  double ba_turn_angle_deg = 15.0;
+
+  // With a plane map (`planeloc run --planes`): which map points lie on a LiDAR plane. The BA then
+  // weighs reprojection by ba.lambda and point-to-plane by 1 - ba.lambda (LocalBA.lambda, default
+  // 0.5 = both whitened terms weighted equally); without a plane map the BA is visual (lambda 1).
+  PlaneAssociationOptions planes;
   // Map point culling: a recent point is removed when found / visible < this ratio, or when
   // it has fewer than min_point_observations observers two keyframes after its creation.
   double min_found_ratio = 0.25;

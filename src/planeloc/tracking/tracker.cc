@@ -24,6 +24,14 @@ double MillisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+void RecordBaStats(const BaJob& job, const BaApplyStats& applied, FrameStats& stats) {
+  stats.ba_median_reprojection_px = applied.median_reprojection_px;
+  stats.ba_plane_residuals = job.result.num_plane_residuals;
+  int free_keyframes = 0;
+  for (const WindowKeyframe& kf : job.problem.keyframes) free_keyframes += !kf.fixed;
+  stats.ba_window_keyframes = free_keyframes;
+}
+
 }  // namespace
 
 const char* TrackingStateName(TrackingState state) {
@@ -49,11 +57,15 @@ std::string FrameStats::ToJson() const {
   if (ba_median_reprojection_px) {
     json += fmt::format(",\"ba_median_reprojection_px\":{:.4f}", *ba_median_reprojection_px);
   }
+  if (ba_plane_residuals) json += fmt::format(",\"ba_plane_residuals\":{}", *ba_plane_residuals);
+  if (ba_window_keyframes) {
+    json += fmt::format(",\"ba_window_keyframes\":{}", *ba_window_keyframes);
+  }
   return json + "}";
 }
 
 Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
-                 const Rigid3d& world_from_cam_initial)
+                 const Rigid3d& world_from_cam_initial, const PlaneMap* plane_map)
     : camera_(camera),
       options_(options),
       extractor_(options.orb),
@@ -62,6 +74,11 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
   options_.Check();
   camera_.Check();
   if (options_.deterministic) options_.ba.num_threads = 1;  // Ceres sums in thread order
+  if (plane_map) {
+    planes_ = std::make_unique<PlaneAssociator>(*plane_map, options_.planes);
+  } else {
+    options_.ba.lambda = 1.0;  // nothing to weigh the reprojection against
+  }
   if (!options_.deterministic) ba_worker_ = std::make_unique<BaWorker>(camera_, options_.ba);
 }
 
@@ -383,7 +400,7 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   const auto ba_start = Clock::now();
   BaJob job;
   job.keyframe_id = kf_id;
-  job.problem = BuildLocalWindow(map_, kf_id, options_);
+  job.problem = BuildLocalWindow(map_, kf_id, options_, planes_.get());
   if (job.problem.observations.empty()) {
     // Nothing to adjust (a keyframe without points).
   } else if (ba_worker_) {
@@ -391,7 +408,7 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   } else {
     SolveBaJob(camera_, options_.ba, job);
     const BaApplyStats applied = ApplyWindowBa(map_, job.problem, job.result, camera_);
-    if (job.result.usable) stats.ba_median_reprojection_px = applied.median_reprojection_px;
+    if (job.result.usable) RecordBaStats(job, applied, stats);
     frame.cam_from_world = map_.keyframe(kf_id).cam_from_world;
     frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
   }
@@ -403,7 +420,7 @@ void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
   std::optional<BaJob> job = wait ? ba_worker_->WaitResult() : ba_worker_->TakeResult();
   if (!job || !job->result.usable) return;
   const BaApplyStats applied = ApplyWindowBa(map_, job->problem, job->result, camera_);
-  stats.ba_median_reprojection_px = applied.median_reprojection_px;
+  RecordBaStats(*job, applied, stats);
   if (last_frame_ && map_.HasKeyframe(reference_keyframe_id_)) {
     last_frame_->cam_from_world =
         last_from_reference_ * map_.keyframe(reference_keyframe_id_).cam_from_world;

@@ -18,8 +18,10 @@
 #include "planeloc/features/orb_extractor.h"
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
+#include "planeloc/io/plane_map.h"
 #include "planeloc/tracking/frame.h"
 #include "planeloc/tracking/map.h"
+#include "planeloc/tracking/plane_association.h"
 #include "planeloc/tracking/settings.h"
 
 namespace planeloc {
@@ -46,6 +48,9 @@ struct FrameStats {
   // Median stereo reprojection error (pixels) after the last applied local BA, when one was
   // applied during this frame.
   std::optional<double> ba_median_reprojection_px;
+  // Of that BA: point-to-plane residuals (plane mode) and free keyframes of its window.
+  std::optional<int> ba_plane_residuals;
+  std::optional<int> ba_window_keyframes;
   // One JSON object on one line (the --stats format).
   std::string ToJson() const;
 };
@@ -58,8 +63,11 @@ struct TrackResult {
 class Tracker {
  public:
   // `world_from_cam_initial`: pose of the first frame; the trajectory is expressed in its frame.
+  // `plane_map`: LiDAR planes in that same frame (the map frame): map points on them get
+  // point-to-plane residuals in the local BA (options.ba.lambda); without it the BA is visual.
   Tracker(const StereoCamera& camera, const TrackerOptions& options,
-          const Rigid3d& world_from_cam_initial = Rigid3d::Identity());
+          const Rigid3d& world_from_cam_initial = Rigid3d::Identity(),
+          const PlaneMap* plane_map = nullptr);
   ~Tracker();
   Tracker(const Tracker&) = delete;
   Tracker& operator=(const Tracker&) = delete;
@@ -92,7 +100,8 @@ class Tracker {
   double CloseDepth() const { return options_.close_depth_baselines * camera_.baseline; }
 
   StereoCamera camera_;
-  TrackerOptions options_;
+  TrackerOptions options_;  // options_.ba.lambda is 1 (visual BA) without a plane map
+  std::unique_ptr<PlaneAssociator> planes_;
   OrbExtractor extractor_;
   SparseMap map_;
   std::unique_ptr<BaWorker> ba_worker_;
