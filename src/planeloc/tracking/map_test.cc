@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
 #include <random>
 
 #include "planeloc/tracking/frame.h"
@@ -217,6 +218,65 @@ TEST(LocalMappingTest, CullsPointsNotSeenAgain) {
   EXPECT_EQ(CullRecentPoints(map, recent, k2, options), 8);
   EXPECT_TRUE(map.HasPoint(0));
   EXPECT_EQ(map.points().size(), 1u);
+}
+
+TEST(LocalMappingTest, WindowTagsPlanePointsAndGrowsAtTurns) {
+  std::mt19937 rng(12);
+  const StereoCamera camera = TestCamera();
+  const std::vector<Eigen::Vector3d> points = RandomPoints(60, rng);
+  const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
+  SparseMap map;
+  TrackerOptions options;
+  options.ba_window_keyframes = 2;
+  options.ba_window_keyframes_turn = 3;
+  options.ba_turn_angle_deg = 15.0;
+  std::vector<int> kfs;
+  for (int k = 0; k < 4; ++k) kfs.push_back(map.AddKeyframe(frame));
+  const std::vector<int> created = CreateStereoPoints(map, kfs[0], camera, options);
+  for (int k = 1; k < 4; ++k) {
+    for (int id : created) {
+      const int keypoint = map.point(id).observations.at(kfs[0]);
+      if (keypoint < 60 - 15 * k) map.AddObservation(id, kfs[k], keypoint);
+    }
+  }
+  for (int k : kfs) map.UpdateConnections(k);
+  auto free_keyframes = [](const WindowProblem& problem) {
+    int free = 0;
+    for (const WindowKeyframe& kf : problem.keyframes) free += !kf.fixed;
+    return free;
+  };
+  EXPECT_FALSE(IsTurning(map, kfs[3], options));
+  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options)), 1);  // kf 0 is fixed
+  // Keyframe 3 turned by 20 degrees: one more keyframe joins the window.
+  map.SetKeyframePose(kfs[3],
+                      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(20.0 * std::numbers::pi / 180.0,
+                                                                   Eigen::Vector3d::UnitY())),
+                              Eigen::Vector3d::Zero()));
+  EXPECT_TRUE(IsTurning(map, kfs[3], options));
+  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options)), 2);
+
+  // A plane z = z0 through point 5 (the world is keyframe 0's camera frame) claims the points
+  // within 15 cm of it.
+  const double z0 = points[5].z();
+  PlaneMap plane_map;
+  MapPlane wall;
+  wall.id = 42;
+  wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -z0);
+  wall.area = 400;
+  wall.polygon = {{-20, -20, z0}, {20, -20, z0}, {20, 20, z0}, {-20, 20, z0}};
+  plane_map.planes.push_back(wall);
+  const PlaneAssociator planes(plane_map, options.planes);
+  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options, &planes);
+  int on_plane = 0;
+  for (const WindowPoint& p : problem.points) {
+    const bool near = std::abs(p.point_in_world.z() - z0) <= options.planes.max_distance;
+    EXPECT_EQ(p.plane_id.has_value(), near) << p.point_in_world.transpose();
+    on_plane += near;
+  }
+  ASSERT_GT(on_plane, 0);
+  ASSERT_EQ(problem.planes.size(), 1u);
+  EXPECT_EQ(problem.planes[0].id, 42);
+  EXPECT_EQ(BuildLocalWindow(map, kfs[3], options).planes.size(), 0u);
 }
 
 }  // namespace

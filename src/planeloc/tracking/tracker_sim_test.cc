@@ -2,13 +2,18 @@
 // BA path, and bit-identical deterministic runs.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <iostream>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <sstream>
 
 #include "planeloc/io/kitti_sequence.h"
+#include "planeloc/io/plane_map.h"
 #include "planeloc/io/trajectory.h"
+#include "planeloc/map/map_builder.h"
+#include "planeloc/map/map_planes.h"
 #include "planeloc/sim/simulator.h"
 #include "planeloc/tracking/run_sequence.h"
 #include "planeloc/tracking/tracker.h"
@@ -79,6 +84,44 @@ TEST_F(TrackerSimTest, TinyTracksEveryFrameWithSmallDrift) {
         0.5)
         << "frame " << i;
   }
+}
+
+// The product: the same drive localized in the LiDAR plane map built from the simulated scans
+// (GT poses, as a mapping run would have them) is closer to the truth than visual odometry.
+TEST_F(TrackerSimTest, PlaneMapReducesTheErrorOfTheBaseline) {
+  MapBuildOptions build;
+  build.show_progress = false;
+  const PointCloud map = BuildMap(build, KittiSequence::Open(result_->sequence_dir),
+                                  ReadKittiTrajectory(result_->poses_path));
+  const MapPlanesOutput planes = RunMapPlanes(map, MapPlanesOptions());
+  ASSERT_GE(planes.extraction.plane_map.planes.size(), 3u);  // road, sidewalks, facades
+  const std::filesystem::path planes_path = dir_->path() / "planes.json";
+  WritePlaneMap(planes_path, planes.extraction.plane_map);
+
+  RunOptions visual = Run("visual", true);
+  visual.world_from_cam_initial = result_->world_from_cam.front();
+  RunOptions localized = Run("localized", true);
+  localized.world_from_cam_initial = result_->world_from_cam.front();
+  localized.planes_path = planes_path;
+  const RunSummary baseline = RunSequence(visual);
+  const RunSummary with_planes = RunSequence(localized);
+  ASSERT_EQ(with_planes.frames, result_->frames);
+  EXPECT_EQ(with_planes.tracked, with_planes.frames);
+  EXPECT_GT(with_planes.mean_ba_plane_residuals, 100.0);
+  EXPECT_EQ(baseline.mean_ba_plane_residuals, 0.0);
+  // ATE without alignment: the map frame is the GT frame.
+  auto ate = [&](const RunSummary& summary) {
+    double sum2 = 0;
+    for (int i = 0; i < summary.frames; ++i) {
+      sum2 += (summary.world_from_cam[i].translation - result_->world_from_cam[i].translation)
+                  .squaredNorm();
+    }
+    return std::sqrt(sum2 / summary.frames);
+  };
+  const double ate_visual = ate(baseline), ate_planes = ate(with_planes);
+  std::cout << "ATE RMSE visual " << ate_visual << " m, with planes " << ate_planes << " m\n";
+  EXPECT_LT(ate_planes, 0.7 * ate_visual);
+  EXPECT_LT(ate_planes, 0.06);
 }
 
 TEST_F(TrackerSimTest, ThreadedBaTracksEveryFrame) {
