@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # planeloc end to end: set-up, build, then
 #   data  -> LiDAR map (planeloc map build) -> plane map (planeloc map planes)
-#         -> stereo tracking (planeloc run) -> evaluation against ground truth (planeloc eval).
+#         -> stereo localization in the plane map, and the visual-only baseline (planeloc run)
+#         -> evaluation of both against ground truth (planeloc eval).
 # With no arguments it runs on the built-in synthetic town (`planeloc sim --preset small`).
 #
 # Usage: scripts/demo.sh [--sequence KITTI_SEQ_DIR --poses GT_POSES] [--out DIR] [--preset NAME]
@@ -34,30 +35,45 @@ mkdir -p "$out"
 step() { echo; echo "=== $*"; }
 
 if [ -z "$sequence" ]; then
-  step "1/5 synthetic town (preset $preset, seed 7)"
+  step "1/6 synthetic town (preset $preset, seed 7)"
   "$planeloc" sim --out "$out/sim" --preset "$preset" --seed 7 --force
   sequence="$out/sim/sequences/00"
   poses="$out/sim/poses/00.txt"
 fi
 
-step "2/5 LiDAR map from the scans and ground-truth poses"
+step "2/6 LiDAR map from the scans and ground-truth poses"
 "$planeloc" map build --sequence "$sequence" --poses "$poses" --out "$out/map.pcd" --voxel 0.10
 
-step "3/5 plane map by tensor voting + k-means"
-"$planeloc" map planes --map "$out/map.pcd" --out "$out/planes.json" --ply "$out/planes.ply"
+step "3/6 plane map by tensor voting + k-means"
+gt=()
+if [ -f "$out/sim/world/planes_gt.json" ] && [ "$sequence" = "$out/sim/sequences/00" ]; then
+  gt=(--gt "$out/sim/world/planes_gt.json")  # the simulator's GT planes: accuracy in the log
+fi
+"$planeloc" map planes --map "$out/map.pcd" --out "$out/planes.json" --ply "$out/planes.ply" \
+  "${gt[@]}"
 
-step "4/5 stereo tracking, plane constraints off (ORB-SLAM2-like baseline)"
+step "4/6 stereo localization in the plane map (point-to-plane constraints on)"
+"$planeloc" run --sequence "$sequence" --init-pose-from "$poses" --planes "$out/planes.json" \
+  --out "$out/traj_planes.txt" --stats "$out/stats_planes.jsonl"
+
+step "5/6 stereo tracking, plane constraints off (ORB-SLAM2-like baseline), same frames"
 "$planeloc" run --sequence "$sequence" --init-pose-from "$poses" --no-planes \
   --out "$out/traj_vo.txt" --stats "$out/stats_vo.jsonl"
 
-step "5/5 evaluation against ground truth"
+step "6/6 evaluation against ground truth"
 # KITTI drift needs at least one 100 m segment: the tiny preset (60 m) has none.
 drift=(--kitti-drift)
 path_m=$(awk 'NR>1{dx=$4-x;dy=$8-y;dz=$12-z;s+=sqrt(dx*dx+dy*dy+dz*dz)}{x=$4;y=$8;z=$12}END{printf "%d", s}' "$poses")
 if [ "$path_m" -lt 100 ]; then drift=(); echo "(path ${path_m} m < 100 m: no KITTI drift)"; fi
-"$planeloc" eval --gt "$poses" --est "$out/traj_vo.txt" --align se3 --plane xz \
-  --rpe-delta 1 --rpe-unit frames "${drift[@]}" \
-  --json "$out/eval_vo.json" --plot "$out/eval_vo.png"
+for run in planes vo; do
+  echo "--- $run: ATE in the map frame (no alignment: the map fixes the frame)"
+  "$planeloc" eval --gt "$poses" --est "$out/traj_$run.txt" --align none --json "$out/ate_$run.json"
+  echo "--- $run: SE(3)-aligned, 2-D (x-z), relative error"
+  "$planeloc" eval --gt "$poses" --est "$out/traj_$run.txt" --align se3 --plane xz \
+    --rpe-delta 1 --rpe-unit frames "${drift[@]}" \
+    --json "$out/eval_$run.json" --plot "$out/eval_$run.png"
+done
 
 echo
-echo "Outputs in $out: map.pcd, planes.json, planes.ply, traj_vo.txt, stats_vo.jsonl, eval_vo.json, eval_vo.png"
+echo "Outputs in $out: map.pcd, planes.json, planes.ply, traj_{planes,vo}.txt, stats_{planes,vo}.jsonl,"
+echo "ate_{planes,vo}.json, eval_{planes,vo}.json, eval_{planes,vo}.png"
