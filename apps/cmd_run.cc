@@ -61,6 +61,12 @@ int Run(const RunArgs& args) {
   if (options.planes_path) {
     spdlog::info("plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average",
                  summary.planes, summary.mean_ba_plane_residuals);
+    if (summary.planes > 0 && summary.keyframes > 1 && summary.mean_ba_plane_residuals < 1.0) {
+      spdlog::warn(
+          "{}: almost no map point lay on a plane of the map; is the plane map in the frame of "
+          "the initial pose? (give --init-pose-from the poses the map was built with)",
+          args.planes);
+    }
   }
   spdlog::info("trajectory: {}", args.out);
   return 0;
