@@ -77,6 +77,20 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
   const int window_size = IsTurning(map, keyframe_id, options) ? options.ba_window_keyframes_turn
                                                                : options.ba_window_keyframes;
   std::vector<int> local = map.BestCovisible(keyframe_id, window_size - 1);
+  if (window_size > options.ba_window_keyframes) {
+    // At a turn few keyframes share points with the new one; the window reaches further along
+    // the covisibility graph (neighbours of neighbours, best first), which links the keyframes
+    // before the corner to the ones after it through the ones in it.
+    std::set<int> taken(local.begin(), local.end());
+    taken.insert(keyframe_id);
+    for (std::size_t k = 0; k < local.size() && static_cast<int>(local.size()) < window_size - 1;
+         ++k) {
+      for (const int neighbour : map.BestCovisible(local[k], window_size)) {
+        if (static_cast<int>(local.size()) >= window_size - 1) break;
+        if (taken.insert(neighbour).second) local.push_back(neighbour);
+      }
+    }
+  }
   local.push_back(keyframe_id);
   std::sort(local.begin(), local.end());
   const std::set<int> local_set(local.begin(), local.end());
