@@ -43,4 +43,24 @@ double Plane::AngleTo(const Plane& other) const {
   return std::acos(std::clamp(std::abs(normal.dot(other.normal)), 0.0, 1.0));
 }
 
+std::pair<Eigen::Vector3d, Eigen::Vector3d> Plane::InPlaneBasis() const {
+  const Eigen::Vector3d helper =
+      std::abs(normal.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d u = normal.cross(helper).normalized();
+  return {u, normal.cross(u)};
+}
+
+bool InsidePolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& q) {
+  bool inside = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const Eigen::Vector2d& a = ring[i];
+    const Eigen::Vector2d& b = ring[j];
+    if ((a.y() > q.y()) != (b.y() > q.y()) &&
+        q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
 }  // namespace planeloc

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 #include "planeloc/geometry/rigid3.h"
@@ -31,6 +32,11 @@ struct Plane {
   Plane Transformed(const Rigid3d& b_from_a) const;
   // Angle between the normals in radians, orientation-insensitive (in [0, pi/2]).
   double AngleTo(const Plane& other) const;
+  // Unit in-plane directions (u, v) with u x v = normal: 2-D coordinates (x.u, x.v) on the plane.
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> InPlaneBasis() const;
 };
+
+// Crossing-number test of q against a closed ring (any orientation, no repeated last vertex).
+bool InsidePolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& q);
 
 }  // namespace planeloc

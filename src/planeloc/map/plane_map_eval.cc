@@ -8,6 +8,7 @@
 #include <map>
 #include <numbers>
 #include <stdexcept>
+#include <tuple>
 
 #include "planeloc/util/error.h"
 
@@ -20,28 +21,13 @@ struct FlatPolygon {
   std::vector<Eigen::Vector2d> ring;
 
   explicit FlatPolygon(const MapPlane& plane) {
-    const Eigen::Vector3d& n = plane.plane_in_map.normal;
-    const Eigen::Vector3d helper =
-        std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    u = n.cross(helper).normalized();
-    v = n.cross(u);
+    std::tie(u, v) = plane.plane_in_map.InPlaneBasis();
     for (const auto& p : plane.polygon) ring.emplace_back(p.dot(u), p.dot(v));
   }
 
-  // Crossing-number test; a plane without an outline is unbounded.
+  // A plane without an outline is unbounded.
   bool Contains(const Eigen::Vector3d& p) const {
-    if (ring.size() < 3) return true;
-    const Eigen::Vector2d q(p.dot(u), p.dot(v));
-    bool inside = false;
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-      const Eigen::Vector2d& a = ring[i];
-      const Eigen::Vector2d& b = ring[j];
-      if ((a.y() > q.y()) != (b.y() > q.y()) &&
-          q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-        inside = !inside;
-      }
-    }
-    return inside;
+    return ring.size() < 3 || InsidePolygon2d(ring, Eigen::Vector2d(p.dot(u), p.dot(v)));
   }
 };
 

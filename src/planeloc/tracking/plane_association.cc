@@ -3,8 +3,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "planeloc/util/error.h"
 
@@ -45,11 +47,7 @@ PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationO
     if (plane.area > 0.0 && plane.area < options_.min_plane_area) continue;
     FlatPlane flat;
     flat.plane = plane;
-    const Eigen::Vector3d& n = plane.plane_in_map.normal;
-    const Eigen::Vector3d helper =
-        std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    flat.u = n.cross(helper).normalized();
-    flat.v = n.cross(flat.u);
+    std::tie(flat.u, flat.v) = plane.plane_in_map.InPlaneBasis();
     const std::size_t index = planes_.size();
     index_by_id_[plane.id] = index;
     if (plane.polygon.size() < 3) {
@@ -91,18 +89,12 @@ std::int64_t PlaneAssociator::CellKey(const Eigen::Vector3d& point) const {
 bool PlaneAssociator::InsideOutline(const FlatPlane& flat, const Eigen::Vector3d& point) const {
   if (flat.ring.size() < 3) return true;
   const Eigen::Vector2d q(point.dot(flat.u), point.dot(flat.v));
-  bool inside = false;
+  if (InsidePolygon2d(flat.ring, q)) return true;
   double nearest2 = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0, j = flat.ring.size() - 1; i < flat.ring.size(); j = i++) {
-    const Eigen::Vector2d& a = flat.ring[i];
-    const Eigen::Vector2d& b = flat.ring[j];
-    if ((a.y() > q.y()) != (b.y() > q.y()) &&
-        q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
-    nearest2 = std::min(nearest2, SegmentDistance2(q, a, b));
+    nearest2 = std::min(nearest2, SegmentDistance2(q, flat.ring[i], flat.ring[j]));
   }
-  return inside || nearest2 <= options_.polygon_margin * options_.polygon_margin;
+  return nearest2 <= options_.polygon_margin * options_.polygon_margin;
 }
 
 std::optional<int> PlaneAssociator::Associate(const Eigen::Vector3d& point_in_map) const {
