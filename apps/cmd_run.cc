@@ -2,7 +2,9 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 
@@ -19,6 +21,7 @@ struct RunArgs {
   std::string init_pose;
   bool no_planes = false;
   std::string planes;
+  std::string init_sigma;
   std::string out;
   std::string format = "kitti";
   std::string stats;
@@ -48,6 +51,15 @@ int Run(const RunArgs& args) {
   if (!args.stats.empty()) options.stats_path = args.stats;
   if (!args.config.empty()) options.settings_path = args.config;
   if (!args.planes.empty()) options.planes_path = args.planes;
+  if (!args.init_sigma.empty() && args.no_planes) {
+    spdlog::warn(
+        "--init-sigma is used only with --planes: visual odometry runs in the frame of "
+        "the initial pose");
+  }
+  if (!args.no_planes) {
+    // A GNSS-like start by default: the run finds its pose in the plane map.
+    options.start_prior = ParseInitSigma(args.init_sigma.empty() ? "2 0.5 5" : args.init_sigma);
+  }
   options.deterministic = args.deterministic;
   options.threads = args.threads;
   options.max_frames = args.frames;
@@ -61,7 +73,33 @@ int Run(const RunArgs& args) {
   if (options.planes_path) {
     spdlog::info("plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average",
                  summary.planes, summary.mean_ba_plane_residuals);
-    if (summary.planes > 0 && summary.keyframes > 1 && summary.mean_ba_plane_residuals < 1.0) {
+    if (options.start_prior.Exact()) {
+      spdlog::info(
+          "map lock: exact start (--init-sigma \"0 0 0\"), plane constraints from frame 0");
+    } else {
+      for (const LockEvent& event : summary.lock_events) {
+        const Eigen::Vector3d t = event.map_from_world.translation;
+        spdlog::info(
+            "map lock: {} at frame {} (keyframes from {}): correction {:.3f} m [{:.3f} {:.3f} "
+            "{:.3f}], {:.3f} deg",
+            MapLockName(event.lock), event.frame, event.first_keyframe_id, t.norm(), t.x(), t.y(),
+            t.z(),
+            RotationAngle(event.map_from_world.rotation, Eigen::Quaterniond::Identity()) * 180.0 /
+                std::numbers::pi);
+      }
+      if (summary.final_map_lock == "searching") {
+        spdlog::warn(
+            "{}: the run never registered itself to the plane map (map lock: searching); the "
+            "trajectory is visual odometry in the frame of the initial pose. The planes in view "
+            "may not constrain the pose (only the road, or planes far away), or the initial pose "
+            "is farther off than --init-sigma says.",
+            args.planes);
+      } else {
+        spdlog::info("map lock at the end: {}", summary.final_map_lock);
+      }
+    }
+    if (summary.planes > 0 && summary.keyframes > 1 && summary.mean_ba_plane_residuals < 1.0 &&
+        summary.final_map_lock != "searching") {
       spdlog::warn(
           "{}: almost no map point lay on a plane of the map; is the plane map in the frame of "
           "the initial pose? (give --init-pose-from the poses the map was built with)",
@@ -89,6 +127,12 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
       "--planes", args->planes,
       "Plane map (planes.json of `planeloc map planes`, in the frame of the initial pose)");
   no_planes->excludes(planes);
+  cmd->add_option("--init-sigma", args->init_sigma,
+                  "\"S_XY S_Z S_YAW_DEG\": how well the initial pose is known in the plane map "
+                  "(metres horizontal, metres vertical, degrees of heading; roll and pitch come "
+                  "from the road). With --planes the default is \"2 0.5 5\" (GNSS-like): the run "
+                  "registers its stereo structure to the plane map and moves into the map frame "
+                  "when it locks. \"0 0 0\": the initial pose is exact (no registration)");
   cmd->add_option("--out", args->out, "Output trajectory (one pose per frame)")->required();
   cmd->add_option("--format", args->format, "kitti | tum")->capture_default_str();
   cmd->add_option("--stats", args->stats, "Per-frame statistics, JSON lines");

@@ -1,10 +1,12 @@
 #include "planeloc/tracking/run_sequence.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -32,11 +34,22 @@ std::vector<double> ParseNumbers(const std::string& text) {
   return numbers;
 }
 
-Rigid3d FromTwelve(const std::vector<double>& v) {
+// A pose from 12 numbers; `source`/`line` name where they came from in the errors.
+Rigid3d FromTwelve(const std::vector<double>& v, const std::string& source, int line) {
   Eigen::Matrix<double, 3, 4> m;
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 4; ++c) m(r, c) = v[r * 4 + c];
   }
+  CheckInput(m.allFinite(), source, line, "the initial pose holds a NaN or infinite value",
+             "give a finite row-major 3x4 world_from_cam");
+  const Eigen::Matrix3d r = m.leftCols<3>();
+  // Real KITTI pose files are orthonormal to about 1e-6; 1e-3 rejects scaled or sheared ones.
+  const double orthonormality = (r.transpose() * r - Eigen::Matrix3d::Identity()).norm();
+  CheckInput(orthonormality < 1e-3 && r.determinant() > 0, source, line,
+             fmt::format("the initial pose's rotation is not a rotation (|R^T R - I| = {:.3g}, "
+                         "det R = {:.4f})",
+                         orthonormality, r.determinant()),
+             "give an orthonormal rotation with determinant +1 (row-major 3x4 world_from_cam)");
   return Rigid3d::FromMatrix3x4(m);
 }
 
@@ -66,7 +79,24 @@ Rigid3d ParsePose12(const std::string& text) {
   CheckInput(v.size() == 12, "", 0,
              "--init-pose needs 12 numbers (row-major 3x4 world_from_cam), got \"" + text + "\"",
              "pass e.g. --init-pose \"1 0 0 0 0 1 0 0 0 0 1 0\"");
-  return FromTwelve(v);
+  return FromTwelve(v, "--init-pose", 0);
+}
+
+StartPrior ParseInitSigma(const std::string& text) {
+  const std::vector<double> v = ParseNumbers(text);
+  StartPrior prior;
+  const bool valid = v.size() == 3 && std::all_of(v.begin(), v.end(), [](double x) {
+                       return std::isfinite(x) && x >= 0.0;
+                     });
+  CheckInput(valid, "--init-sigma", 0,
+             "expected three finite numbers >= 0 \"S_XY S_Z S_YAW_DEG\" (metres horizontal, "
+             "metres vertical, degrees of heading), got \"" +
+                 text + "\"",
+             "pass e.g. --init-sigma \"2 0.5 5\" (a GNSS-like start) or \"0 0 0\" (exact start)");
+  prior.sigma_horizontal = v[0];
+  prior.sigma_vertical = v[1];
+  prior.sigma_yaw_deg = v[2];
+  return prior;
 }
 
 Rigid3d ReadFirstPose(const std::filesystem::path& path) {
@@ -79,9 +109,12 @@ Rigid3d ReadFirstPose(const std::filesystem::path& path) {
     ++number;
     if (line.empty() || line[0] == '#') continue;
     const std::vector<double> v = ParseNumbers(line);
-    if (v.size() == 12) return FromTwelve(v);
+    if (v.size() == 12) return FromTwelve(v, path.string(), number);
     if (v.size() == 8) {
       const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+      CheckInput(std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }),
+                 path.string(), number, "the initial pose holds a NaN or infinite value",
+                 "write a finite TUM line: t tx ty tz qx qy qz qw");
       CheckInput(q.norm() > 1e-9, path.string(), number, "zero quaternion",
                  "write a valid TUM line: t tx ty tz qx qy qz qw");
       return Rigid3d(q.normalized(), Eigen::Vector3d(v[1], v[2], v[3]));
@@ -124,7 +157,7 @@ RunSummary RunSequence(const RunOptions& run) {
   const std::size_t total =
       run.max_frames > 0 ? std::min<std::size_t>(run.max_frames, sequence.size()) : sequence.size();
   Tracker tracker(sequence.camera(), summary.options, run.world_from_cam_initial,
-                  plane_map ? &*plane_map : nullptr);
+                  plane_map ? &*plane_map : nullptr, run.start_prior);
   std::optional<ProgressBar> progress;
   if (run.show_progress) progress.emplace("run", total, "frames");
   const auto start = std::chrono::steady_clock::now();
@@ -152,6 +185,8 @@ RunSummary RunSequence(const RunOptions& run) {
   }
   tracker.Finish();
   if (progress) progress->Finish();
+  summary.lock_events = tracker.lock_events();
+  if (plane_map) summary.final_map_lock = MapLockName(tracker.map_lock());
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   std::vector<double> ba_medians;

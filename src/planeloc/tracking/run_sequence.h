@@ -27,6 +27,9 @@ struct RunOptions {
   // planes.json of `planeloc map planes`, in the frame of world_from_cam_initial; none: visual
   // odometry only (the baseline).
   std::optional<std::filesystem::path> planes_path;
+  // How well world_from_cam_initial is known in the plane map's frame (--init-sigma); exact by
+  // default. Unless exact, the run registers itself to the plane map (tracking/map_lock.h).
+  StartPrior start_prior;
   bool write_effective_settings = true;  // <trajectory>.config.yaml
   bool deterministic = false;
   int threads = 0;     // 0: keep the settings' value
@@ -47,6 +50,8 @@ struct RunSummary {
   double seconds = 0;                    // wall time of the tracking loop
   std::vector<FrameStats> stats;         // per frame
   std::vector<Rigid3d> world_from_cam;   // per frame, as written
+  std::vector<LockEvent> lock_events;    // map-frame corrections, in order
+  std::string final_map_lock;            // "" without a plane map
   TrackerOptions options;                // effective
 };
 
@@ -58,5 +63,7 @@ RunSummary RunSequence(const RunOptions& options);
 Rigid3d ReadFirstPose(const std::filesystem::path& path);
 // "12 numbers" (row-major 3x4 world_from_cam).
 Rigid3d ParsePose12(const std::string& text);
+// "S_XY S_Z S_YAW_DEG" of --init-sigma; throws InputError naming the option.
+StartPrior ParseInitSigma(const std::string& text);
 
 }  // namespace planeloc

@@ -160,6 +160,7 @@ void TrackerOptions::Check() const {
   stereo.Check();
   pose.Check();
   ba.Check();
+  map_lock.Check();
   Require(close_depth_baselines > 0, "close_depth_baselines must be > 0");
   Require(fps > 0, "fps must be > 0");
   Require(motion_search_radius > 0, "motion_search_radius must be > 0");

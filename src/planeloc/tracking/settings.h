@@ -18,6 +18,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/optim/pose_optimizer.h"
 #include "planeloc/optim/window_ba.h"
+#include "planeloc/tracking/map_lock.h"
 #include "planeloc/tracking/plane_association.h"
 
 namespace planeloc {
@@ -83,6 +84,9 @@ struct TrackerOptions {
   // weighs reprojection by ba.lambda and point-to-plane by 1 - ba.lambda (LocalBA.lambda, default
   // 0.5 = both whitened terms weighted equally); without a plane map the BA is visual (lambda 1).
   PlaneAssociationOptions planes;
+  // With a plane map and an uncertain start (--init-sigma): when and how the run registers its
+  // structure to the plane map (tracking/map_lock.h).
+  MapLockOptions map_lock;
   // Map point culling: a recent point is removed when found / visible < this ratio, or when
   // it has fewer than min_point_observations observers two keyframes after its creation.
   double min_found_ratio = 0.25;

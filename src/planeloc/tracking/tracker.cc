@@ -61,11 +61,15 @@ std::string FrameStats::ToJson() const {
   if (ba_window_keyframes) {
     json += fmt::format(",\"ba_window_keyframes\":{}", *ba_window_keyframes);
   }
+  if (ba_discarded) json += ",\"ba_discarded\":true";
+  if (!map_lock.empty()) json += fmt::format(",\"map_lock\":\"{}\"", map_lock);
+  if (registration) json += ",\"registration\":" + *registration;
   return json + "}";
 }
 
 Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
-                 const Rigid3d& world_from_cam_initial, const PlaneMap* plane_map)
+                 const Rigid3d& world_from_cam_initial, const PlaneMap* plane_map,
+                 const StartPrior& start_prior)
     : camera_(camera),
       options_(options),
       extractor_(options.orb),
@@ -76,6 +80,11 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
   if (options_.deterministic) options_.ba.num_threads = 1;  // Ceres sums in thread order
   if (plane_map) {
     planes_ = std::make_unique<PlaneAssociator>(*plane_map, options_.planes);
+    start_prior.Check();
+    if (!start_prior.Exact()) {
+      locker_ = std::make_unique<MapLocker>(*plane_map, options_.map_lock, start_prior,
+                                            world_from_cam_initial, !options_.deterministic);
+    }
   } else {
     options_.ba.lambda = 1.0;  // nothing to weigh the reprojection against
   }
@@ -105,6 +114,7 @@ TrackResult Tracker::SkipFrame(double timestamp) {
   TrackResult result;
   result.stats.frame = next_frame_id_++;
   result.stats.skipped = true;
+  if (planes_) result.stats.map_lock = MapLockName(map_lock());
   result.stats.state = last_frame_ ? TrackingState::kTracking : TrackingState::kLost;
   const Rigid3d pose = PredictPose();
   // The last frame stays the one with features; the next prediction steps once more.
@@ -123,6 +133,8 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
 
   const auto track_start = Clock::now();
   ApplyBaResults(stats, /*wait=*/false);
+  ApplyLockResults(stats, nullptr, /*wait=*/false);
+  if (planes_) stats.map_lock = MapLockName(map_lock());
   const Rigid3d predicted = PredictPose();
   bool tracked = false;
   if (last_frame_) {
@@ -157,6 +169,8 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
     stats.state = last_frame_ ? TrackingState::kLost : TrackingState::kTracking;
     lost_before_ = last_frame_.has_value();
     frame.cam_from_world = predicted;
+    // The new map is tied to the old one only by the motion model: register it again.
+    if (locker_ && last_frame_) locker_->OnLoss(predicted.Inverse(), map_.last_keyframe_id() + 1);
     std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
     std::fill(frame.outlier.begin(), frame.outlier.end(), false);
     make_keyframe = true;
@@ -170,6 +184,7 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   }
   stats.tracked_points = frame.NumTracked();
   if (!tracked) stats.inliers = 0;
+  if (planes_) stats.map_lock = MapLockName(map_lock());
   last_from_reference_ =
       frame.cam_from_world * map_.keyframe(reference_keyframe_id_).cam_from_world.Inverse();
   TrackResult result;
@@ -400,11 +415,13 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   const auto ba_start = Clock::now();
   BaJob job;
   job.keyframe_id = kf_id;
-  job.problem = BuildLocalWindow(map_, kf_id, options_, planes_.get());
+  // Before the map lock the planes' frame is unknown: visual BA only.
+  const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
+  job.problem = BuildLocalWindow(map_, kf_id, options_, planes_active ? planes_.get() : nullptr);
   if (job.problem.observations.empty()) {
     // Nothing to adjust (a keyframe without points).
   } else if (ba_worker_) {
-    ba_worker_->Submit(std::move(job));
+    if (ba_worker_->Submit(std::move(job))) ba_job_epoch_[kf_id] = correction_epoch_;
   } else {
     SolveBaJob(camera_, options_.ba, job);
     const BaApplyStats applied = ApplyWindowBa(map_, job.problem, job.result, camera_);
@@ -413,12 +430,25 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
     frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
   }
   stats.ms_ba = MillisecondsSince(ba_start);
+  if (locker_) {
+    locker_->OnKeyframe(map_, kf_id, camera_);
+    ApplyLockResults(stats, &frame, /*wait=*/false);
+  }
 }
 
 void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
   if (!ba_worker_) return;
   std::optional<BaJob> job = wait ? ba_worker_->WaitResult() : ba_worker_->TakeResult();
-  if (!job || !job->result.usable) return;
+  if (!job) return;
+  const auto epoch = ba_job_epoch_.find(job->keyframe_id);
+  const bool stale = epoch != ba_job_epoch_.end() && epoch->second != correction_epoch_;
+  ba_job_epoch_.erase(ba_job_epoch_.begin(), ba_job_epoch_.upper_bound(job->keyframe_id));
+  if (stale) {
+    // Solved in the frame before a map-lock correction: applying it would undo the correction.
+    stats.ba_discarded = true;
+    return;
+  }
+  if (!job->result.usable) return;
   const BaApplyStats applied = ApplyWindowBa(map_, job->problem, job->result, camera_);
   RecordBaStats(*job, applied, stats);
   if (last_frame_ && map_.HasKeyframe(reference_keyframe_id_)) {
@@ -427,9 +457,43 @@ void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
   }
 }
 
+void Tracker::ApplyLockResults(FrameStats& stats, Frame* current, bool wait) {
+  if (!locker_) return;
+  auto finished = locker_->TakeResult(wait);
+  if (!finished) return;
+  const auto& [report, correction] = *finished;
+  stats.registration = report.ToJson();
+  if (correction) ApplyCorrection(*correction, current, stats.frame);
+}
+
+void Tracker::ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id) {
+  const Rigid3d& map_from_world = correction.map_from_world;
+  const Rigid3d world_from_map = map_from_world.Inverse();
+  for (const auto& [kf_id, keyframe] : map_.keyframes()) {
+    if (kf_id < correction.first_keyframe_id) continue;
+    map_.SetKeyframePose(kf_id, keyframe.cam_from_world * world_from_map);
+  }
+  std::vector<int> moved;
+  for (const auto& [id, point] : map_.points()) {
+    if (point.first_keyframe_id < correction.first_keyframe_id) continue;
+    moved.push_back(id);
+  }
+  for (const int id : moved) {
+    map_.SetPointPosition(id, map_from_world * map_.point(id).point_in_world);
+  }
+  for (const int id : moved) map_.UpdatePointGeometry(id);
+  // Velocity and pose relative to the reference keyframe are frame-free: they stay.
+  if (last_frame_) last_frame_->cam_from_world = last_frame_->cam_from_world * world_from_map;
+  if (current) current->cam_from_world = current->cam_from_world * world_from_map;
+  ++correction_epoch_;
+  lock_events_.push_back(
+      {frame_id, locker_->state(), map_from_world, correction.first_keyframe_id});
+}
+
 void Tracker::Finish() {
   FrameStats ignored;
   ApplyBaResults(ignored, /*wait=*/true);
+  ApplyLockResults(ignored, nullptr, /*wait=*/true);
 }
 
 }  // namespace planeloc

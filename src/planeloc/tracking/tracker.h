@@ -10,6 +10,7 @@
 // thread, or in line when options.deterministic (bit-identical runs).
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -21,6 +22,7 @@
 #include "planeloc/io/plane_map.h"
 #include "planeloc/tracking/frame.h"
 #include "planeloc/tracking/map.h"
+#include "planeloc/tracking/map_lock.h"
 #include "planeloc/tracking/plane_association.h"
 #include "planeloc/tracking/settings.h"
 
@@ -51,8 +53,22 @@ struct FrameStats {
   // Of that BA: point-to-plane residuals (plane mode) and free keyframes of its window.
   std::optional<int> ba_plane_residuals;
   std::optional<int> ba_window_keyframes;
+  // A BA result dropped because the map moved to the map frame while it ran.
+  bool ba_discarded = false;
+  // With a plane map: the map lock after this frame (searching | partial | locked), and the
+  // registration attempt that finished during this frame, as JSON.
+  std::string map_lock;
+  std::optional<std::string> registration;
   // One JSON object on one line (the --stats format).
   std::string ToJson() const;
+};
+
+// A correction of the map frame applied during the run.
+struct LockEvent {
+  int frame = 0;
+  MapLock lock = MapLock::kSearching;
+  Rigid3d map_from_world;  // applied to the keyframes and points of the segment
+  int first_keyframe_id = 0;
 };
 
 struct TrackResult {
@@ -65,9 +81,12 @@ class Tracker {
   // `world_from_cam_initial`: pose of the first frame; the trajectory is expressed in its frame.
   // `plane_map`: LiDAR planes in that same frame (the map frame): map points on them get
   // point-to-plane residuals in the local BA (options.ba.lambda); without it the BA is visual.
+  // `start_prior`: how well world_from_cam_initial is known in the map frame; unless exact, the
+  // run registers its structure to the plane map (map lock) before it uses the planes, and moves
+  // its map into the map frame when it locks.
   Tracker(const StereoCamera& camera, const TrackerOptions& options,
           const Rigid3d& world_from_cam_initial = Rigid3d::Identity(),
-          const PlaneMap* plane_map = nullptr);
+          const PlaneMap* plane_map = nullptr, const StartPrior& start_prior = {});
   ~Tracker();
   Tracker(const Tracker&) = delete;
   Tracker& operator=(const Tracker&) = delete;
@@ -82,6 +101,10 @@ class Tracker {
   void Finish();
 
   const SparseMap& map() const { return map_; }
+  // Map-frame corrections applied so far (registration locks).
+  const std::vector<LockEvent>& lock_events() const { return lock_events_; }
+  // kLocked when the start was exact or without a plane map.
+  MapLock map_lock() const { return locker_ ? locker_->state() : MapLock::kLocked; }
   const OrbExtractor& extractor() const { return extractor_; }
   const TrackerOptions& options() const { return options_; }
 
@@ -96,6 +119,10 @@ class Tracker {
   // Inserts the keyframe and runs the mapping steps; fills ms_ba / reprojection stats.
   void InsertKeyframe(Frame& frame, FrameStats& stats);
   void ApplyBaResults(FrameStats& stats, bool wait);
+  // Applies a finished registration: its correction moves the segment (and `current`) into the
+  // map frame.
+  void ApplyLockResults(FrameStats& stats, Frame* current, bool wait);
+  void ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id);
   Rigid3d PredictPose() const;
   double CloseDepth() const { return options_.close_depth_baselines * camera_.baseline; }
 
@@ -105,6 +132,11 @@ class Tracker {
   OrbExtractor extractor_;
   SparseMap map_;
   std::unique_ptr<BaWorker> ba_worker_;
+  std::unique_ptr<MapLocker> locker_;  // plane map and uncertain start only
+  std::vector<LockEvent> lock_events_;
+  // Corrections applied so far; a BA result computed before the latest one is dropped.
+  int correction_epoch_ = 0;
+  std::map<int, int> ba_job_epoch_;  // keyframe id of a submitted BA -> epoch at submission
   Rigid3d cam_from_world_initial_;
 
   int next_frame_id_ = 0;

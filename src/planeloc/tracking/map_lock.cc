@@ -1,0 +1,262 @@
+#include "planeloc/tracking/map_lock.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <exception>
+#include <numbers>
+#include <set>
+
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+std::string JsonNumber(double value, int digits) {
+  return std::isfinite(value) ? fmt::format("{:.{}f}", value, digits) : std::string("null");
+}
+
+}  // namespace
+
+void StartPrior::Check() const {
+  for (const double sigma : {sigma_horizontal, sigma_vertical, sigma_yaw_deg}) {
+    if (!(std::isfinite(sigma) && sigma >= 0.0)) {
+      throw OptionsError(
+          "--init-sigma \"S_XY S_Z S_YAW_DEG\" needs three finite numbers >= 0 (metres, metres, "
+          "degrees)");
+    }
+  }
+}
+
+void MapLockOptions::Check() const {
+  registration.Check();
+  if (attempt_every_keyframes < 1) {
+    throw OptionsError("MapLock.attemptEveryKeyframes must be >= 1");
+  }
+  if (structure_keyframes < 1) throw OptionsError("MapLock.structureKeyframes must be >= 1");
+  if (!(max_point_distance > 0)) throw OptionsError("MapLock.maxPointDistance must be > 0 (m)");
+  if (!(disparity_sigma_px > 0)) throw OptionsError("MapLock.disparitySigma must be > 0 (px)");
+  for (const double value :
+       {drift_fraction, drift_yaw_deg_per_100m, partial_sigma_lateral, partial_sigma_vertical,
+        partial_sigma_yaw_deg, lost_sigma_horizontal, lost_sigma_vertical, lost_sigma_yaw_deg}) {
+    if (!(value >= 0)) throw OptionsError("MapLock sigmas and drift rates must be >= 0");
+  }
+}
+
+std::string RegistrationReport::ToJson() const {
+  std::string dofs;
+  for (int dof = 0; dof < kNumDofs; ++dof) {
+    if (!result.constrained[dof]) continue;
+    if (!dofs.empty()) dofs += ",";
+    dofs += fmt::format("\"{}\"", RegistrationDofName(dof));
+  }
+  std::string sigmas;
+  for (int dof = 0; dof < kNumDofs; ++dof) {
+    // Metres for the shifts, degrees for the angles.
+    const double value = dof < 3 ? result.dof_sigma[dof] : result.dof_sigma[dof] / kDegree;
+    sigmas +=
+        fmt::format("{}\"{}\":{}", dof ? "," : "", RegistrationDofName(dof), JsonNumber(value, 5));
+  }
+  std::string eigenvalues;
+  for (int i = 0; i < 6; ++i) {
+    eigenvalues +=
+        fmt::format("{}{}", i ? "," : "", JsonNumber(result.information_eigenvalues(i), 3));
+  }
+  const Eigen::Vector3d t = result.map_from_world.translation;
+  return fmt::format(
+      "{{\"keyframe\":{},\"lock\":\"{}\",\"points\":{},\"inliers\":{},\"inlier_ratio\":{},"
+      "\"rms\":{},\"margin\":{},\"hypotheses\":{},\"constrained\":[{}],\"dof_sigma\":{{{}}},"
+      "\"information_eigenvalues\":[{}],\"correction\":{{\"translation\":[{:.4f},{:.4f},{:.4f}],"
+      "\"angle_deg\":{:.4f}}},\"reason\":\"{}\"}}",
+      keyframe_id, MapLockName(lock_after), result.points, result.inliers,
+      JsonNumber(result.inlier_ratio, 4), JsonNumber(result.rms, 4), JsonNumber(result.margin, 3),
+      result.hypotheses, dofs, sigmas, eigenvalues, t.x(), t.y(), t.z(),
+      RotationAngle(result.map_from_world.rotation, Eigen::Quaterniond::Identity()) / kDegree,
+      result.reason);
+}
+
+MapLocker::MapLocker(const PlaneMap& planes, const MapLockOptions& options, const StartPrior& start,
+                     const Rigid3d& world_from_cam_initial, bool threaded)
+    : options_(options), registration_(planes, options.registration) {
+  options_.Check();
+  start.Check();
+  const Eigen::Vector3d camera_up = world_from_cam_initial.rotation * Eigen::Vector3d(0, -1, 0);
+  up_in_world_ = registration_.UpDirection(camera_up);
+  pivot_in_world_ = world_from_cam_initial.translation;
+  forward_in_world_ = world_from_cam_initial.rotation * Eigen::Vector3d::UnitZ();
+  sigma_along_ = sigma_lateral_ = start.sigma_horizontal;
+  sigma_vertical_ = start.sigma_vertical;
+  sigma_yaw_ = start.sigma_yaw_deg * kDegree;
+  if (threaded) thread_ = std::jthread([this](std::stop_token stop) { Run(stop); });
+}
+
+MapLocker::~MapLocker() {
+  if (thread_.joinable()) {
+    thread_.request_stop();
+    wake_.notify_all();
+  }
+}
+
+RegistrationPrior MapLocker::CurrentPrior(const Eigen::Vector3d& camera_in_world) const {
+  // Visual odometry drifts while the car drives away from the pivot: the prior widens with it.
+  const double driven = (camera_in_world - pivot_in_world_).norm();
+  const double drift = options_.drift_fraction * driven;
+  const double yaw_drift = options_.drift_yaw_deg_per_100m * kDegree * driven / 100.0;
+  return RegistrationPrior::FromVehicleSigmas(
+      pivot_in_world_, up_in_world_, forward_in_world_, std::hypot(sigma_along_, drift),
+      std::hypot(sigma_lateral_, drift), std::hypot(sigma_vertical_, 0.2 * drift),
+      std::hypot(sigma_yaw_, yaw_drift), options_.registration.sigma_tilt_deg * kDegree);
+}
+
+void MapLocker::OnKeyframe(const SparseMap& map, int keyframe_id, const StereoCamera& camera) {
+  if (state_ == MapLock::kLocked || keyframe_id < segment_first_keyframe_) return;
+  if (++keyframes_since_attempt_ < options_.attempt_every_keyframes) return;
+  {
+    std::lock_guard lock(mutex_);
+    if (pending_ || running_) return;  // the next keyframe tries again
+  }
+  keyframes_since_attempt_ = 0;
+
+  // Structure: the points of the segment's last keyframes, copied for the worker.
+  Job job;
+  job.segment = segment_;
+  job.keyframe_id = keyframe_id;
+  std::set<int> point_ids;
+  int taken = 0;
+  for (auto it = map.keyframes().rbegin();
+       it != map.keyframes().rend() && taken < options_.structure_keyframes; ++it, ++taken) {
+    if (it->first < segment_first_keyframe_) break;
+    for (const int id : it->second.map_point_ids) {
+      if (id >= 0) point_ids.insert(id);
+    }
+  }
+  const double depth_scale = options_.disparity_sigma_px / (camera.fx * camera.baseline);
+  for (const int id : point_ids) {
+    if (!map.HasPoint(id)) continue;
+    const MapPoint& point = map.point(id);
+    if (static_cast<int>(point.observations.size()) < options_.min_point_observations) continue;
+    if (point.first_keyframe_id < segment_first_keyframe_) continue;
+    if (!map.HasKeyframe(point.reference_keyframe_id)) continue;
+    const double distance =
+        (point.point_in_world - map.keyframe(point.reference_keyframe_id).CameraCenter()).norm();
+    if (distance > options_.max_point_distance) continue;
+    job.points.push_back({point.point_in_world, distance * distance * depth_scale});
+  }
+  job.world_from_camera = map.keyframe(keyframe_id).cam_from_world.Inverse();
+  job.prior = CurrentPrior(job.world_from_camera.translation);
+
+  if (!thread_.joinable()) {
+    job.result = registration_.Register(job.points, job.prior, job.world_from_camera);
+    inline_finished_ = std::move(job);
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    pending_ = std::move(job);
+  }
+  wake_.notify_all();
+}
+
+void MapLocker::Run(std::stop_token stop) {
+  while (true) {
+    Job job;
+    {
+      std::unique_lock lock(mutex_);
+      if (!wake_.wait(lock, stop, [this] { return pending_.has_value(); })) return;
+      job = std::move(*pending_);
+      pending_.reset();
+      running_ = true;
+    }
+    try {
+      job.result = registration_.Register(job.points, job.prior, job.world_from_camera);
+    } catch (const std::exception& e) {
+      RegistrationResult failed;
+      failed.reason = std::string("registration failed: ") + e.what();
+      job.result = failed;
+    }
+    {
+      std::lock_guard lock(mutex_);
+      finished_ = std::move(job);
+      running_ = false;
+    }
+    done_.notify_all();
+  }
+}
+
+std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLocker::TakeResult(
+    bool wait) {
+  std::optional<Job> job;
+  if (inline_finished_) {
+    job = std::move(inline_finished_);
+    inline_finished_.reset();
+  } else if (thread_.joinable()) {
+    std::unique_lock lock(mutex_);
+    if (wait) done_.wait(lock, [this] { return !pending_ && !running_; });
+    job = std::move(finished_);
+    finished_.reset();
+  }
+  if (!job || !job->result) return std::nullopt;
+  return Finish(std::move(*job));
+}
+
+std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLocker::Finish(
+    Job job) {
+  RegistrationReport report;
+  report.keyframe_id = job.keyframe_id;
+  report.lock_before = state_;
+  report.result = *job.result;
+  report.lock_after = state_;
+  if (job.segment != segment_) return std::nullopt;  // a loss since: its frame is gone
+  std::optional<MapCorrection> correction;
+  const MapLock found = report.result.lock;
+  // A partial result never downgrades a partial lock; a full one completes any.
+  const bool improves =
+      (found == MapLock::kLocked) || (found == MapLock::kPartial && state_ == MapLock::kSearching);
+  if (improves) {
+    correction = MapCorrection{report.result.map_from_world, segment_first_keyframe_};
+    state_ = found;
+    report.lock_after = found;
+    if (found == MapLock::kPartial) {
+      // Next attempt: the registered DoF are known; along-track keeps its prior, now pivoted at
+      // the camera (in the corrected frame).
+      const Rigid3d& correction_transform = report.result.map_from_world;
+      const Eigen::Vector3d camera = correction_transform * job.world_from_camera.translation;
+      const double driven = (job.world_from_camera.translation - pivot_in_world_).norm();
+      sigma_along_ = std::hypot(sigma_along_, options_.drift_fraction * driven);
+      sigma_lateral_ = options_.partial_sigma_lateral;
+      sigma_vertical_ = options_.partial_sigma_vertical;
+      sigma_yaw_ = options_.partial_sigma_yaw_deg * kDegree;
+      pivot_in_world_ = camera;
+      forward_in_world_ = correction_transform.rotation *
+                          (job.world_from_camera.rotation * Eigen::Vector3d::UnitZ());
+      up_in_world_ = correction_transform.rotation * up_in_world_;
+    }
+  }
+  return std::make_pair(report, correction);
+}
+
+void MapLocker::OnLoss(const Rigid3d& world_from_cam, int next_keyframe_id) {
+  ++segment_;
+  segment_first_keyframe_ = next_keyframe_id;
+  keyframes_since_attempt_ = 0;
+  const double driven = (world_from_cam.translation - pivot_in_world_).norm();
+  const double drift = state_ == MapLock::kSearching ? options_.drift_fraction * driven : 0.0;
+  if (state_ != MapLock::kSearching) {
+    // The map frame was known up to the loss: the prior is what the motion model lost since.
+    sigma_along_ = sigma_lateral_ = options_.lost_sigma_horizontal;
+    sigma_vertical_ = options_.lost_sigma_vertical;
+    sigma_yaw_ = options_.lost_sigma_yaw_deg * kDegree;
+  } else {
+    sigma_along_ = std::hypot(std::hypot(sigma_along_, drift), options_.lost_sigma_horizontal);
+    sigma_lateral_ = std::hypot(std::hypot(sigma_lateral_, drift), options_.lost_sigma_horizontal);
+    sigma_vertical_ = std::hypot(sigma_vertical_, options_.lost_sigma_vertical);
+    sigma_yaw_ = std::hypot(sigma_yaw_, options_.lost_sigma_yaw_deg * kDegree);
+  }
+  pivot_in_world_ = world_from_cam.translation;
+  forward_in_world_ = world_from_cam.rotation * Eigen::Vector3d::UnitZ();
+  state_ = MapLock::kSearching;
+}
+
+}  // namespace planeloc

@@ -1,0 +1,642 @@
+#include "planeloc/tracking/map_registration.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <tuple>
+
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// A plane within this angle of horizontal is ground, within this angle of vertical a facade.
+const double kGroundCos = std::cos(15.0 * kDegree);
+const double kFacadeSin = std::sin(15.0 * kDegree);
+// Lever arm (metres) that puts rotations in metres for the reported eigenvalues.
+constexpr double kLeverArm = 10.0;
+
+double SegmentDistance2(const Eigen::Vector2d& q, const Eigen::Vector2d& a,
+                        const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((q - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - q).squaredNorm();
+}
+
+Eigen::Vector3d AnyPerpendicular(const Eigen::Vector3d& n) {
+  const Eigen::Vector3d seed =
+      std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  return n.cross(seed).normalized();
+}
+
+// Named axes at a camera: along-track (horizontal forward), lateral (left), vertical (up).
+struct VehicleAxes {
+  Eigen::Vector3d along, lateral, up;
+};
+
+VehicleAxes AxesAt(const Eigen::Vector3d& forward, const Eigen::Vector3d& up) {
+  VehicleAxes axes;
+  axes.up = up.normalized();
+  Eigen::Vector3d along = forward - forward.dot(axes.up) * axes.up;
+  if (along.norm() < 1e-6) along = AnyPerpendicular(axes.up);
+  axes.along = along.normalized();
+  axes.lateral = axes.up.cross(axes.along);
+  return axes;
+}
+
+// Covariance from point-to-plane information, regularized by a very weak prior (100 m, 1 rad)
+// so that an unobserved direction gets a large but finite variance instead of leaking rounding
+// noise of a pseudo-inverse into the observed ones. Solved in metric units (rotation x lever).
+Matrix6d RegularizedCovariance(const Matrix6d& information) {
+  Vector6d scale;
+  scale << 1, 1, 1, 1.0 / kLeverArm, 1.0 / kLeverArm, 1.0 / kLeverArm;
+  Matrix6d metric = scale.asDiagonal() * information * scale.asDiagonal();
+  metric.diagonal().array() += 1.0 / (100.0 * 100.0);
+  const Matrix6d covariance = metric.ldlt().solve(Matrix6d::Identity());
+  return scale.asDiagonal() * covariance * scale.asDiagonal();
+}
+
+}  // namespace
+
+const char* RegistrationDofName(int dof) {
+  static const char* const kNames[kNumDofs] = {"along_track", "lateral", "vertical",
+                                               "roll",        "pitch",   "yaw"};
+  return dof >= 0 && dof < kNumDofs ? kNames[dof] : "unknown";
+}
+
+const char* MapLockName(MapLock lock) {
+  switch (lock) {
+    case MapLock::kSearching:
+      return "searching";
+    case MapLock::kPartial:
+      return "partial";
+    case MapLock::kLocked:
+      return "locked";
+  }
+  return "unknown";
+}
+
+void MapRegistrationOptions::Check() const {
+  auto positive = [](double value, const char* name) {
+    if (!(value > 0.0))
+      throw OptionsError(std::string("MapRegistrationOptions.") + name + " must be > 0");
+  };
+  positive(search_sigmas, "search_sigmas");
+  positive(heading_step_deg, "heading_step_deg");
+  positive(shift_cell, "shift_cell");
+  positive(outline_margin, "outline_margin");
+  positive(inlier_sigmas, "inlier_sigmas");
+  positive(min_point_sigma, "min_point_sigma");
+  positive(max_rms, "max_rms");
+  positive(min_margin, "min_margin");
+  positive(distinct_shift, "distinct_shift");
+  positive(distinct_angle_deg, "distinct_angle_deg");
+  positive(max_dof_sigma, "max_dof_sigma");
+  positive(max_dof_sigma_deg, "max_dof_sigma_deg");
+  positive(noise_inflation, "noise_inflation");
+  positive(sigma_tilt_deg, "sigma_tilt_deg");
+  if (max_headings < 1) throw OptionsError("MapRegistrationOptions.max_headings must be >= 1");
+  if (max_cells < 3) throw OptionsError("MapRegistrationOptions.max_cells must be >= 3");
+  if (max_points < 10) throw OptionsError("MapRegistrationOptions.max_points must be >= 10");
+  if (min_points < 10) throw OptionsError("MapRegistrationOptions.min_points must be >= 10");
+  if (num_hypotheses < 1) throw OptionsError("MapRegistrationOptions.num_hypotheses must be >= 1");
+  if (!(min_plane_area >= 0.0)) {
+    throw OptionsError("MapRegistrationOptions.min_plane_area must be >= 0 (m^2)");
+  }
+  if (!(map_sigma >= 0.0)) throw OptionsError("MapRegistrationOptions.map_sigma must be >= 0 (m)");
+  if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0)) {
+    throw OptionsError("MapRegistrationOptions.min_inlier_ratio must be in [0, 1]");
+  }
+}
+
+RegistrationPrior RegistrationPrior::FromSigmas(const Eigen::Vector3d& pivot,
+                                                const Eigen::Vector3d& up, double sigma_horizontal,
+                                                double sigma_vertical, double sigma_yaw,
+                                                double sigma_tilt) {
+  return FromVehicleSigmas(pivot, up, AnyPerpendicular(up.normalized()), sigma_horizontal,
+                           sigma_horizontal, sigma_vertical, sigma_yaw, sigma_tilt);
+}
+
+RegistrationPrior RegistrationPrior::FromVehicleSigmas(const Eigen::Vector3d& pivot,
+                                                       const Eigen::Vector3d& up,
+                                                       const Eigen::Vector3d& forward,
+                                                       double sigma_along, double sigma_lateral,
+                                                       double sigma_vertical, double sigma_yaw,
+                                                       double sigma_tilt) {
+  const VehicleAxes axes = AxesAt(forward, up);
+  RegistrationPrior prior;
+  prior.pivot_in_world = pivot;
+  prior.up_in_world = axes.up;
+  prior.covariance.setZero();
+  prior.covariance.topLeftCorner<3, 3>() =
+      sigma_along * sigma_along * axes.along * axes.along.transpose() +
+      sigma_lateral * sigma_lateral * axes.lateral * axes.lateral.transpose() +
+      sigma_vertical * sigma_vertical * axes.up * axes.up.transpose();
+  prior.covariance.bottomRightCorner<3, 3>() =
+      sigma_yaw * sigma_yaw * axes.up * axes.up.transpose() +
+      sigma_tilt * sigma_tilt *
+          (axes.along * axes.along.transpose() + axes.lateral * axes.lateral.transpose());
+  return prior;
+}
+
+// One candidate correction: p_map = rotation (p - pivot) + pivot + shift.
+struct MapRegistration::Hypothesis {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  double votes = 0;
+  int inliers = 0;
+  double rms = 0;
+  Matrix6d information = Matrix6d::Zero();  // point-to-plane only, (shift, omega) at the pivot
+};
+
+MapRegistration::MapRegistration(const PlaneMap& planes, const MapRegistrationOptions& options)
+    : options_(options) {
+  options_.Check();
+  for (const MapPlane& plane : planes.planes) {
+    if (plane.area > 0.0 && plane.area < options_.min_plane_area) continue;
+    FlatPlane flat;
+    flat.id = plane.id;
+    flat.plane = plane.plane_in_map;
+    flat.sigma = std::hypot(plane.rms, options_.map_sigma);
+    flat.ground = plane.kind == "ground";
+    std::tie(flat.u, flat.v) = plane.plane_in_map.InPlaneBasis();
+    flat.lo = Eigen::Vector3d::Constant(-kInf);
+    flat.hi = Eigen::Vector3d::Constant(kInf);
+    if (plane.polygon.size() >= 3) {
+      flat.lo = flat.hi = plane.polygon.front();
+      flat.polygon = plane.polygon;
+      for (const Eigen::Vector3d& p : plane.polygon) {
+        flat.ring.emplace_back(p.dot(flat.u), p.dot(flat.v));
+        flat.lo = flat.lo.cwiseMin(p);
+        flat.hi = flat.hi.cwiseMax(p);
+      }
+    }
+    planes_.push_back(std::move(flat));
+  }
+}
+
+Eigen::Vector3d MapRegistration::UpDirection(const Eigen::Vector3d& hint) const {
+  const Eigen::Vector3d h = hint.normalized();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const FlatPlane& plane : planes_) {
+    if (!plane.ground) continue;
+    const Eigen::Vector3d n =
+        plane.plane.normal.dot(h) >= 0 ? plane.plane.normal : Eigen::Vector3d(-plane.plane.normal);
+    // Area weighting through the outline's box would favour long thin planes; the ground planes
+    // of a street map are all nearly parallel, so a plain mean is enough.
+    if (n.dot(h) > kGroundCos) sum += n;
+  }
+  return sum.norm() > 0.5 ? sum.normalized() : h;
+}
+
+bool MapRegistration::NearOutline(const FlatPlane& plane, const Eigen::Vector3d& point,
+                                  double margin) const {
+  if (plane.ring.size() < 3) return true;
+  // Quick rejection: the point's projection outside the outline's box grown by the margin.
+  const Eigen::Vector3d projected = plane.plane.Project(point);
+  if ((projected.array() < plane.lo.array() - margin).any() ||
+      (projected.array() > plane.hi.array() + margin).any()) {
+    return false;
+  }
+  const Eigen::Vector2d q(point.dot(plane.u), point.dot(plane.v));
+  if (InsidePolygon2d(plane.ring, q)) return true;
+  double nearest2 = kInf;
+  for (std::size_t i = 0, j = plane.ring.size() - 1; i < plane.ring.size(); j = i++) {
+    nearest2 = std::min(nearest2, SegmentDistance2(q, plane.ring[i], plane.ring[j]));
+  }
+  return nearest2 <= margin * margin;
+}
+
+void MapRegistration::Refine(const std::vector<RegistrationPoint>& points,
+                             const RegistrationPrior& prior, const std::vector<int>& candidates,
+                             Hypothesis& hypothesis) const {
+  const Eigen::Vector3d& c = prior.pivot_in_world;
+  // Prior information; a zero sigma (exact DoF) becomes a very stiff one.
+  Matrix6d prior_covariance = prior.covariance;
+  prior_covariance.diagonal().array() += 1e-10;
+  const Matrix6d prior_information = prior_covariance.inverse();
+
+  struct Match {
+    int plane = -1;  // index into planes_
+    double sigma = 0;
+  };
+  std::vector<Match> matches(points.size());
+  const double floor2 = options_.min_point_sigma * options_.min_point_sigma;
+  auto associate = [&](double gate) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector3d p =
+          hypothesis.rotation * (points[i].point_in_world - c) + c + hypothesis.shift;
+      matches[i] = Match{};
+      double best = kInf;
+      for (const int index : candidates) {
+        const FlatPlane& plane = planes_[index];
+        const double sigma = std::sqrt(std::max(floor2, points[i].sigma * points[i].sigma) +
+                                       plane.sigma * plane.sigma);
+        const double distance = std::abs(plane.plane.SignedDistance(p));
+        if (distance > gate + options_.inlier_sigmas * sigma || distance >= best) continue;
+        if (!NearOutline(plane, p, options_.outline_margin)) continue;
+        best = distance;
+        matches[i] = Match{index, sigma};
+      }
+    }
+  };
+
+  const double gates[] = {1.0, 1.0, 1.0, 0.5, 0.5, 0.5, 0.25, 0.25, 0.25, 0.0, 0.0, 0.0};
+  for (const double gate : gates) {
+    associate(gate);
+    Matrix6d h = Matrix6d::Zero();
+    Vector6d b = Vector6d::Zero();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (matches[i].plane < 0) continue;
+      const Plane& plane = planes_[matches[i].plane].plane;
+      const Eigen::Vector3d q = hypothesis.rotation * (points[i].point_in_world - c);
+      const double r = plane.SignedDistance(q + c + hypothesis.shift) / matches[i].sigma;
+      Eigen::Matrix<double, 1, 6> j;
+      j.head<3>() = plane.normal.transpose();
+      j.tail<3>() = -plane.normal.transpose() * Hat(q);
+      j /= matches[i].sigma;
+      constexpr double kHuber = 2.0;
+      const double w = std::abs(r) <= kHuber ? 1.0 : kHuber / std::abs(r);
+      h += w * j.transpose() * j;
+      b += w * j.transpose() * r;
+    }
+    Vector6d xi;
+    xi.head<3>() = hypothesis.shift;
+    xi.tail<3>() = LogSO3(hypothesis.rotation);
+    const Vector6d step = -(h + prior_information).ldlt().solve(b + prior_information * xi);
+    if (!step.allFinite()) break;
+    hypothesis.shift += step.head<3>();
+    hypothesis.rotation = ExpSO3(step.tail<3>()) * hypothesis.rotation;
+  }
+
+  // Score with the final association.
+  associate(0.0);
+  hypothesis.inliers = 0;
+  hypothesis.information.setZero();
+  double sum2 = 0;
+  const double inflation2 = options_.noise_inflation * options_.noise_inflation;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (matches[i].plane < 0) continue;
+    const Plane& plane = planes_[matches[i].plane].plane;
+    const Eigen::Vector3d q = hypothesis.rotation * (points[i].point_in_world - c);
+    const double distance = plane.SignedDistance(q + c + hypothesis.shift);
+    ++hypothesis.inliers;
+    sum2 += distance * distance;
+    Eigen::Matrix<double, 1, 6> j;
+    j.head<3>() = plane.normal.transpose();
+    j.tail<3>() = -plane.normal.transpose() * Hat(q);
+    hypothesis.information +=
+        j.transpose() * j / (matches[i].sigma * matches[i].sigma * inflation2);
+  }
+  hypothesis.rms = hypothesis.inliers > 0 ? std::sqrt(sum2 / hypothesis.inliers) : kInf;
+}
+
+RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint>& all_points,
+                                             const RegistrationPrior& prior,
+                                             const Rigid3d& world_from_camera) const {
+  RegistrationResult result;
+  for (double& sigma : result.dof_sigma) sigma = kInf;
+  // A deterministic subsample: every k-th point.
+  std::vector<RegistrationPoint> points;
+  const std::size_t stride =
+      std::max<std::size_t>(1, (all_points.size() + options_.max_points - 1) / options_.max_points);
+  for (std::size_t i = 0; i < all_points.size(); i += stride) {
+    if (all_points[i].point_in_world.allFinite()) points.push_back(all_points[i]);
+  }
+  result.points = static_cast<int>(points.size());
+  if (result.points < options_.min_points) {
+    result.reason = "too little structure (" + std::to_string(result.points) + " points, need " +
+                    std::to_string(options_.min_points) + ")";
+    return result;
+  }
+  if (planes_.empty()) {
+    result.reason = "the plane map has no usable plane";
+    return result;
+  }
+
+  const Eigen::Vector3d up = UpDirection(prior.up_in_world);
+  const Eigen::Vector3d& c = prior.pivot_in_world;
+  const Eigen::Matrix3d shift_cov = prior.covariance.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d angle_cov = prior.covariance.bottomRightCorner<3, 3>();
+  const double sigma_vertical = std::sqrt(std::max(0.0, up.dot(shift_cov * up)));
+  const double sigma_heading = std::sqrt(std::max(0.0, up.dot(angle_cov * up)));
+  // Horizontal search axes: principal axes of the prior's horizontal shift covariance.
+  const Eigen::Vector3d e1 = AnyPerpendicular(up);
+  const Eigen::Vector3d e2 = up.cross(e1);
+  Eigen::Matrix<double, 3, 2> basis;
+  basis << e1, e2;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> horizontal(basis.transpose() * shift_cov *
+                                                                  basis);
+  const Eigen::Vector3d axis[2] = {basis * horizontal.eigenvectors().col(0),
+                                   basis * horizontal.eigenvectors().col(1)};
+  const double half_range[2] = {
+      options_.search_sigmas * std::sqrt(std::max(0.0, horizontal.eigenvalues()(0))) + 1.0,
+      options_.search_sigmas * std::sqrt(std::max(0.0, horizontal.eigenvalues()(1))) + 1.0};
+  const double cell = std::max({options_.shift_cell, 2.0 * half_range[0] / (options_.max_cells - 1),
+                                2.0 * half_range[1] / (options_.max_cells - 1)});
+  const int cells[2] = {static_cast<int>(std::ceil(2.0 * half_range[0] / cell)) + 1,
+                        static_cast<int>(std::ceil(2.0 * half_range[1] / cell)) + 1};
+
+  // Planes the structure can reach under the prior.
+  Eigen::Vector3d lo = points.front().point_in_world, hi = lo;
+  double lever = 0;
+  for (const RegistrationPoint& p : points) {
+    lo = lo.cwiseMin(p.point_in_world);
+    hi = hi.cwiseMax(p.point_in_world);
+    lever = std::max(lever, (p.point_in_world - c).norm());
+  }
+  const double reach = std::max(half_range[0], half_range[1]) +
+                       options_.search_sigmas * (sigma_vertical + sigma_heading * lever) + 2.0;
+  std::vector<int> candidates, grounds, facades;
+  for (int i = 0; i < static_cast<int>(planes_.size()); ++i) {
+    const FlatPlane& plane = planes_[i];
+    if ((plane.hi.array() < lo.array() - reach).any() ||
+        (plane.lo.array() > hi.array() + reach).any()) {
+      continue;
+    }
+    candidates.push_back(i);
+    const double vertical = std::abs(plane.plane.normal.dot(up));
+    if (vertical > kGroundCos) grounds.push_back(i);
+    if (vertical < kFacadeSin) facades.push_back(i);
+  }
+  if (candidates.empty()) {
+    result.reason = "no plane of the map within reach of the structure";
+    return result;
+  }
+
+  // 1. Vertical shift: points over a ground plane vote (5 cm bins).
+  const double vertical_range = options_.search_sigmas * sigma_vertical + 0.3;
+  constexpr double kBin = 0.05;
+  const int bins = static_cast<int>(std::ceil(2.0 * vertical_range / kBin)) + 1;
+  std::vector<double> histogram(bins, 0.0);
+  std::vector<bool> near_ground(points.size(), false);
+  const double horizontal_reach = std::max(half_range[0], half_range[1]);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (const int g : grounds) {
+      const FlatPlane& plane = planes_[g];
+      const Eigen::Vector3d& p = points[i].point_in_world;
+      if (!NearOutline(plane, p, horizontal_reach)) continue;
+      const double shift = -plane.plane.SignedDistance(p) / plane.plane.normal.dot(up);
+      const int bin = static_cast<int>(std::lround((shift + vertical_range) / kBin));
+      if (bin >= 0 && bin < bins) {
+        histogram[bin] += 1.0;
+        near_ground[i] = true;
+      }
+    }
+  }
+  double vertical_shift = 0, best_count = 0;
+  for (int k = 0; k < bins; ++k) {
+    double count = histogram[k];
+    if (k > 0) count += 0.5 * histogram[k - 1];
+    if (k + 1 < bins) count += 0.5 * histogram[k + 1];
+    if (count > best_count) {
+      best_count = count;
+      vertical_shift = k * kBin - vertical_range;
+    }
+  }
+  // Points within 0.3 m of the ground (after the vertical shift) vote for no facade.
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!near_ground[i]) continue;
+    near_ground[i] = false;
+    const Eigen::Vector3d p = points[i].point_in_world + vertical_shift * up;
+    for (const int g : grounds) {
+      if (std::abs(planes_[g].plane.SignedDistance(p)) < 0.3) near_ground[i] = true;
+    }
+  }
+
+  // 2. Heading x horizontal shift: Hough voting over facades.
+  struct Peak {
+    double votes;
+    double heading;
+    Eigen::Vector3d shift;
+  };
+  std::vector<Peak> peaks;
+  const int headings = sigma_heading > 0
+                           ? std::max(1, std::min(options_.max_headings,
+                                                  static_cast<int>(std::ceil(
+                                                      2.0 * options_.search_sigmas * sigma_heading /
+                                                      (options_.heading_step_deg * kDegree))) +
+                                                      1))
+                           : 1;
+  std::vector<float> accumulator(static_cast<std::size_t>(cells[0]) * cells[1]);
+  std::vector<float> smoothed(accumulator.size());
+  // Each facade's horizontal normal, in-facade horizontal direction and outline extents.
+  struct Facade {
+    const FlatPlane* plane;
+    Eigen::Vector3d n, m;
+    double n_norm;
+    double m_lo = -kInf, m_hi = kInf, z_lo = -kInf, z_hi = kInf;
+  };
+  std::vector<Facade> facade_info;
+  for (const int f : facades) {
+    Facade facade;
+    facade.plane = &planes_[f];
+    facade.n = planes_[f].plane.normal - planes_[f].plane.normal.dot(up) * up;
+    facade.n_norm = facade.n.norm();
+    facade.n /= facade.n_norm;
+    facade.m = up.cross(facade.n);
+    if (!planes_[f].polygon.empty()) {
+      facade.m_lo = facade.z_lo = kInf;
+      facade.m_hi = facade.z_hi = -kInf;
+      for (const Eigen::Vector3d& x : planes_[f].polygon) {
+        facade.m_lo = std::min(facade.m_lo, x.dot(facade.m));
+        facade.m_hi = std::max(facade.m_hi, x.dot(facade.m));
+        facade.z_lo = std::min(facade.z_lo, x.dot(up));
+        facade.z_hi = std::max(facade.z_hi, x.dot(up));
+      }
+    }
+    facade_info.push_back(facade);
+  }
+  for (int k = 0; k < headings; ++k) {
+    const double heading =
+        headings == 1 ? 0.0
+                      : -options_.search_sigmas * sigma_heading +
+                            2.0 * options_.search_sigmas * sigma_heading * k / (headings - 1);
+    const Eigen::Matrix3d rotation = Eigen::AngleAxisd(heading, up).toRotationMatrix();
+    std::fill(accumulator.begin(), accumulator.end(), 0.0f);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (near_ground[i]) continue;
+      const Eigen::Vector3d p = rotation * (points[i].point_in_world - c) + c + vertical_shift * up;
+      for (const Facade& facade : facade_info) {
+        const Eigen::Vector3d& n = facade.n;
+        const Eigen::Vector3d& m = facade.m;
+        const double s = -facade.plane->plane.SignedDistance(p) / facade.n_norm;  // along n
+        if (std::abs(s) > horizontal_reach + 1.0) continue;
+        const double m_lo = facade.m_lo, m_hi = facade.m_hi;
+        const double z_lo = facade.z_lo, z_hi = facade.z_hi;
+        const double height = p.dot(up);
+        if (height < z_lo - 0.5 || height > z_hi + 0.5) continue;
+        // Shift = s n + tau m; the shifted point must stay within the facade's extent along m.
+        const double along = p.dot(m);
+        const double tau_lo = m_lo - options_.outline_margin - along;
+        const double tau_hi = m_hi + options_.outline_margin - along;
+        const Eigen::Vector2d origin(s * n.dot(axis[0]), s * n.dot(axis[1]));
+        const Eigen::Vector2d direction(m.dot(axis[0]), m.dot(axis[1]));
+        const double span = std::hypot(half_range[0], half_range[1]);
+        const double t0 = std::max(tau_lo, -span), t1 = std::min(tau_hi, span);
+        int last = -1;
+        for (double tau = t0; tau <= t1; tau += 0.7 * cell) {
+          const Eigen::Vector2d x = origin + tau * direction;
+          const int ix = static_cast<int>(std::lround((x(0) + half_range[0]) / cell));
+          const int iy = static_cast<int>(std::lround((x(1) + half_range[1]) / cell));
+          if (ix < 0 || iy < 0 || ix >= cells[0] || iy >= cells[1]) continue;
+          const int index = iy * cells[0] + ix;
+          if (index == last) continue;
+          accumulator[index] += 1.0f;
+          last = index;
+        }
+      }
+    }
+    // 3x3 box filter, then local maxima.
+    for (int iy = 0; iy < cells[1]; ++iy) {
+      for (int ix = 0; ix < cells[0]; ++ix) {
+        float sum = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int x = ix + dx, y = iy + dy;
+            if (x >= 0 && y >= 0 && x < cells[0] && y < cells[1])
+              sum += accumulator[y * cells[0] + x];
+          }
+        }
+        smoothed[iy * cells[0] + ix] = sum;
+      }
+    }
+    std::vector<Peak> local;
+    for (int iy = 0; iy < cells[1]; ++iy) {
+      for (int ix = 0; ix < cells[0]; ++ix) {
+        const float value = smoothed[iy * cells[0] + ix];
+        if (value <= 0) continue;
+        bool is_max = true;
+        for (int dy = -1; dy <= 1 && is_max; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int x = ix + dx, y = iy + dy;
+            if ((dx || dy) && x >= 0 && y >= 0 && x < cells[0] && y < cells[1] &&
+                smoothed[y * cells[0] + x] > value) {
+              is_max = false;
+              break;
+            }
+          }
+        }
+        if (!is_max) continue;
+        const Eigen::Vector3d shift = (ix * cell - half_range[0]) * axis[0] +
+                                      (iy * cell - half_range[1]) * axis[1] + vertical_shift * up;
+        local.push_back({value, heading, shift});
+      }
+    }
+    std::sort(local.begin(), local.end(),
+              [](const Peak& a, const Peak& b) { return a.votes > b.votes; });
+    if (local.size() > 3) local.resize(3);
+    peaks.insert(peaks.end(), local.begin(), local.end());
+  }
+  std::stable_sort(peaks.begin(), peaks.end(),
+                   [](const Peak& a, const Peak& b) { return a.votes > b.votes; });
+
+  // Distinct peaks, plus the prior's mean (the answer when no facade votes).
+  std::vector<Hypothesis> hypotheses;
+  auto add_hypothesis = [&](double heading, const Eigen::Vector3d& shift, double votes) {
+    for (const Hypothesis& h : hypotheses) {
+      const double angle = std::abs(Eigen::AngleAxisd(h.rotation).angle() - std::abs(heading));
+      if ((h.shift - shift).norm() < 1.0 && angle < 2.0 * kDegree) return;
+    }
+    Hypothesis h;
+    h.rotation = Eigen::AngleAxisd(heading, up).toRotationMatrix();
+    h.shift = shift;
+    h.votes = votes;
+    hypotheses.push_back(h);
+  };
+  for (const Peak& peak : peaks) {
+    if (static_cast<int>(hypotheses.size()) >= options_.num_hypotheses) break;
+    add_hypothesis(peak.heading, peak.shift, peak.votes);
+  }
+  add_hypothesis(0.0, vertical_shift * up, 0.0);
+
+  // 3. Refine and score.
+  for (Hypothesis& h : hypotheses) Refine(points, prior, candidates, h);
+  result.hypotheses = static_cast<int>(hypotheses.size());
+  std::stable_sort(hypotheses.begin(), hypotheses.end(),
+                   [](const Hypothesis& a, const Hypothesis& b) {
+                     return a.inliers != b.inliers ? a.inliers > b.inliers : a.rms < b.rms;
+                   });
+  const Hypothesis& best = hypotheses.front();
+  result.inliers = best.inliers;
+  result.inlier_ratio = static_cast<double>(best.inliers) / result.points;
+  result.rms = best.rms;
+
+  // Conditioning at the current camera.
+  // Conditioning at the current camera, in the map frame of the best hypothesis: a change
+  // (d_shift, d_omega) moves the camera by d_shift - [R (camera - c)]x d_omega.
+  const Eigen::Vector3d camera = world_from_camera.translation;
+  const VehicleAxes axes = AxesAt(
+      best.rotation * (world_from_camera.rotation * Eigen::Vector3d::UnitZ()), best.rotation * up);
+  Matrix6d to_camera = Matrix6d::Identity();
+  to_camera.topRightCorner<3, 3>() = -Hat(best.rotation * (camera - c));
+  const Matrix6d covariance =
+      to_camera * RegularizedCovariance(best.information) * to_camera.transpose();
+  const Eigen::Vector3d named[kNumDofs] = {axes.along, axes.lateral, axes.up,
+                                           axes.along, axes.lateral, axes.up};
+  for (int dof = 0; dof < kNumDofs; ++dof) {
+    const Eigen::Matrix3d block =
+        dof < 3 ? covariance.topLeftCorner<3, 3>() : covariance.bottomRightCorner<3, 3>();
+    const double sigma = std::sqrt(std::max(0.0, named[dof].dot(block * named[dof])));
+    // Above 10 m (or 1 rad) the regularization, not the data, sets the value: unobserved.
+    result.dof_sigma[dof] = sigma > (dof < 3 ? 10.0 : 0.5) ? kInf : sigma;
+    result.constrained[dof] =
+        dof < 3 ? sigma <= options_.max_dof_sigma : sigma <= options_.max_dof_sigma_deg * kDegree;
+  }
+  Matrix6d metric = best.information;
+  metric.bottomRightCorner<3, 3>() /= kLeverArm * kLeverArm;
+  metric.topRightCorner<3, 3>() /= kLeverArm;
+  metric.bottomLeftCorner<3, 3>() /= kLeverArm;
+  result.information_eigenvalues = Eigen::SelfAdjointEigenSolver<Matrix6d>(metric).eigenvalues();
+
+  // Margin over the best hypothesis that differs in a constrained DoF.
+  const auto apply = [&](const Hypothesis& h, const Eigen::Vector3d& x) {
+    return Eigen::Vector3d(h.rotation * (x - c) + c + h.shift);
+  };
+  int second = 0;
+  for (std::size_t k = 1; k < hypotheses.size(); ++k) {
+    const Hypothesis& other = hypotheses[k];
+    const Eigen::Vector3d dt = apply(other, camera) - apply(best, camera);
+    const Eigen::Vector3d dr = LogSO3(other.rotation * best.rotation.transpose());
+    bool distinct = false;
+    for (int dof = 0; dof < kNumDofs; ++dof) {
+      if (!result.constrained[dof]) continue;
+      const double difference = std::abs((dof < 3 ? dt : dr).dot(named[dof]));
+      distinct |= dof < 3 ? difference > options_.distinct_shift
+                          : difference > options_.distinct_angle_deg * kDegree;
+    }
+    if (distinct) second = std::max(second, other.inliers);
+  }
+  result.margin = second > 0 ? static_cast<double>(best.inliers) / second : kInf;
+
+  const bool all_but_along = result.constrained[kLateral] && result.constrained[kVertical] &&
+                             result.constrained[kRoll] && result.constrained[kPitch] &&
+                             result.constrained[kYaw];
+  if (result.inlier_ratio < options_.min_inlier_ratio || best.inliers < options_.min_points / 2) {
+    result.reason = "few points on planes (" + std::to_string(best.inliers) + " of " +
+                    std::to_string(result.points) + ")";
+  } else if (result.rms > options_.max_rms) {
+    result.reason = "point-to-plane rms too large";
+  } else if (result.margin < options_.min_margin) {
+    result.reason = "ambiguous: a distinct hypothesis fits almost as well";
+  } else if (!all_but_along) {
+    result.reason = "the planes in view do not constrain";
+    for (int dof = kLateral; dof < kNumDofs; ++dof) {
+      if (!result.constrained[dof]) result.reason += std::string(" ") + RegistrationDofName(dof);
+    }
+  } else {
+    result.lock = result.constrained[kAlongTrack] ? MapLock::kLocked : MapLock::kPartial;
+    if (result.lock == MapLock::kPartial) result.reason = "along-track not observed";
+    result.map_from_world = Rigid3d(best.rotation, c + best.shift - best.rotation * c);
+  }
+  return result;
+}
+
+}  // namespace planeloc
