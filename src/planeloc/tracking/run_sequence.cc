@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include "planeloc/io/plane_map.h"
@@ -44,6 +45,7 @@ struct EffectiveSettings {
   TrackerOptions options;
   StereoCamera camera;
   bool calibration_from_settings = false;
+  std::shared_ptr<const StereoRectifier> rectifier;  // raw images: rectified on load
 };
 
 // Reads the settings file before anything slow, so that a bad file fails first.
@@ -65,10 +67,19 @@ EffectiveSettings Effective(const RunOptions& run, std::optional<SettingsFile> f
         run.calibration_from_settings || file->calibration_from_settings;
     effective.camera = ChooseCamera(sequence_camera, file->camera,
                                     effective.calibration_from_settings, path, &file->warnings);
+    if (file->camera && file->camera->rectifier) {
+      effective.rectifier = file->camera->rectifier;
+      effective.calibration_from_settings = true;
+      spdlog::info(
+          "{}: raw stereo images, rectified on load (fx {:.3f}, cx {:.3f}, cy {:.3f}, baseline "
+          "{:.5f} m); the sequence's calibration is not used",
+          path, effective.camera.fx, effective.camera.cx, effective.camera.cy,
+          effective.camera.baseline);
+    }
     for (const auto& warning : file->warnings) spdlog::warn("{}: {}", path, warning);
     if (!file->ignored.empty()) {
       std::string keys;
-      for (const auto& key : file->ignored) keys += (keys.empty() ? "" : ", ") + key;
+      for (const auto& key : file->ignored) keys.append(keys.empty() ? "" : ", ").append(key);
       spdlog::info("{}: not used by planeloc (ignored): {}", path, keys);
     }
     effective.options = file->options;
@@ -140,7 +151,8 @@ RunSummary RunSequence(const RunOptions& run) {
                               static_cast<std::size_t>(summary.options.num_threads));
   if (run.write_effective_settings) {
     WriteTrackerSettings(run.trajectory_path.string() + ".config.yaml", summary.options,
-                         summary.camera, effective.calibration_from_settings);
+                         summary.camera, effective.calibration_from_settings,
+                         effective.rectifier.get());
   }
   TrajectoryWriter writer(run.trajectory_path, run.format);
   std::optional<std::ofstream> stats_out;
@@ -166,6 +178,7 @@ RunSummary RunSequence(const RunOptions& run) {
     } else {
       try {
         pair = sequence.LoadStereoPair(i);
+        if (effective.rectifier) pair = effective.rectifier->Rectify(*pair);
       } catch (const InputError& e) {
         spdlog::warn("frame {}: {}; pose from the motion model", i, e.what());
       }

@@ -168,6 +168,27 @@ void ReportInvalidValues(SettingsReader& reader, const TrackerOptions& defaults)
   }
 }
 
+// An !!opencv-matrix with doubles in shortest round-trip form.
+void WriteMatrix(std::ostream& out, const std::string& key, const cv::Mat& m) {
+  out << key << ": !!opencv-matrix\n";
+  out << fmt::format("  rows: {}\n  cols: {}\n  dt: d\n  data: [", m.rows, m.cols);
+  for (int r = 0; r < m.rows; ++r) {
+    for (int c = 0; c < m.cols; ++c) {
+      out << (r + c > 0 ? ", " : "") << fmt::format("{}", m.at<double>(r, c));
+    }
+  }
+  out << "]\n";
+}
+
+void WriteRawSide(std::ostream& out, const std::string& side, const RawCamera& camera,
+                  const cv::Mat& r, const cv::Mat& p, cv::Size size) {
+  out << fmt::format("{0}.width: {1}\n{0}.height: {2}\n", side, size.width, size.height);
+  WriteMatrix(out, side + ".K", camera.k);
+  WriteMatrix(out, side + ".D", camera.d.reshape(1, 1));
+  WriteMatrix(out, side + ".R", r);
+  WriteMatrix(out, side + ".P", p);
+}
+
 }  // namespace
 
 void TrackerOptions::Check() const {
@@ -257,16 +278,27 @@ SettingsFile LoadTrackerSettings(const std::filesystem::path& path, const Tracke
 }
 
 std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamera& camera,
-                                bool calibration_from_settings) {
+                                bool calibration_from_settings, const StereoRectifier* rectifier) {
   std::ostringstream out;
   out << "%YAML:1.0\n"
-         "# planeloc effective tracker settings (OpenCV FileStorage YAML, ORB-SLAM3 v1.0 camera\n"
-         "# layout); read back with `planeloc run --config`.\n";
-  out << "File.version: \"1.0\"\nCamera.type: \"Rectified\"\n";
-  out << fmt::format("Camera1.fx: {}\nCamera1.fy: {}\nCamera1.cx: {}\nCamera1.cy: {}\n", camera.fx,
-                     camera.fy, camera.cx, camera.cy);
-  out << fmt::format("Stereo.b: {}\nCamera.width: {}\nCamera.height: {}\n", camera.baseline,
-                     camera.width, camera.height);
+         "# planeloc effective tracker settings (OpenCV FileStorage YAML); read back with\n"
+         "# `planeloc run --config`.\n";
+  if (rectifier) {
+    out << "# Raw stereo images, rectified on load (ORB-SLAM2 layout: LEFT/RIGHT K, D, R, P).\n";
+    out << fmt::format("Camera.fx: {}\nCamera.fy: {}\nCamera.cx: {}\nCamera.cy: {}\n", camera.fx,
+                       camera.fy, camera.cx, camera.cy);
+    out << fmt::format("Camera.bf: {}\n", camera.BaselineTimesFx());
+    WriteRawSide(out, "LEFT", rectifier->left(), rectifier->left_r(), rectifier->left_p(),
+                 rectifier->size());
+    WriteRawSide(out, "RIGHT", rectifier->right(), rectifier->right_r(), rectifier->right_p(),
+                 rectifier->size());
+  } else {
+    out << "File.version: \"1.0\"\nCamera.type: \"Rectified\"\n";
+    out << fmt::format("Camera1.fx: {}\nCamera1.fy: {}\nCamera1.cx: {}\nCamera1.cy: {}\n",
+                       camera.fx, camera.fy, camera.cx, camera.cy);
+    out << fmt::format("Stereo.b: {}\n", camera.baseline);
+  }
+  out << fmt::format("Camera.width: {}\nCamera.height: {}\n", camera.width, camera.height);
   out << fmt::format("System.calibrationFromSettings: {}\n", calibration_from_settings ? 1 : 0);
   TrackerOptions copy = options;
   for (const Key& key : Keys()) {
@@ -286,11 +318,12 @@ std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamer
 }
 
 void WriteTrackerSettings(const std::filesystem::path& path, const TrackerOptions& options,
-                          const StereoCamera& camera, bool calibration_from_settings) {
+                          const StereoCamera& camera, bool calibration_from_settings,
+                          const StereoRectifier* rectifier) {
   std::ofstream out(path);
   CheckInput(out.good(), path.string(), 0, "cannot write the effective settings",
              "check that the output folder is writable");
-  out << TrackerSettingsYaml(options, camera, calibration_from_settings);
+  out << TrackerSettingsYaml(options, camera, calibration_from_settings, rectifier);
 }
 
 }  // namespace planeloc

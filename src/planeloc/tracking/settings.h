@@ -118,10 +118,14 @@ SettingsFile LoadTrackerSettings(const std::filesystem::path& path, const Tracke
 // The effective configuration as a settings file that LoadTrackerSettings (and cv::FileStorage)
 // reads back to the same values: ORB-SLAM3 v1.0 layout for the camera (Camera.type "Rectified",
 // Camera1.*, Stereo.b, Camera.width/height), every planeloc key, and
-// System.calibrationFromSettings.
+// System.calibrationFromSettings. With a `rectifier` (raw images rectified on load) the camera is
+// written in ORB-SLAM2's layout with LEFT/RIGHT K, D, R, P instead, so that a run with the
+// written file rectifies the same way.
 std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamera& camera,
-                                bool calibration_from_settings = false);
+                                bool calibration_from_settings = false,
+                                const StereoRectifier* rectifier = nullptr);
 void WriteTrackerSettings(const std::filesystem::path& path, const TrackerOptions& options,
-                          const StereoCamera& camera, bool calibration_from_settings = false);
+                          const StereoCamera& camera, bool calibration_from_settings = false,
+                          const StereoRectifier* rectifier = nullptr);
 
 }  // namespace planeloc

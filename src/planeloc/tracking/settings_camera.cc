@@ -10,10 +10,9 @@ namespace planeloc {
 namespace {
 
 constexpr const char* kRectifyFix =
-    "planeloc tracks rectified stereo pairs only: rectify the images beforehand "
-    "(cv::stereoRectify, cv::initUndistortRectifyMap, cv::remap), store them in KITTI layout with "
-    "the rectified calib.txt, and describe the rectified camera (Camera.fx/fy/cx/cy/bf, or "
-    "Camera.type: \"Rectified\" with Camera1.* and Stereo.b)";
+    "planeloc needs rectified pinhole stereo pairs, or radial-tangential pinhole cameras it can "
+    "rectify on load (LEFT/RIGHT K, D, R, P, or ORB-SLAM3 Camera.type \"PinHole\" with Camera2.* "
+    "and Stereo.T_c1_c2): rectify fisheye images beforehand and describe the rectified camera";
 
 [[noreturn]] void Refuse(const SettingsReader& reader, const std::string& key,
                          const std::string& what) {
@@ -49,7 +48,7 @@ bool ReadIntrinsics(SettingsReader& reader, const std::string& prefix, SettingsC
   for (const char* k : {"fx", "fy", "cx", "cy"}) {
     if (!reader.Has(prefix + k)) {
       reader.AddProblem(
-          reader.LineOf(prefix + "fx") + reader.LineOf(prefix + "fy"),
+          FirstLine(reader, prefix),
           fmt::format("{}{} is missing: {}fx, fy, cx and cy go together", prefix, k, prefix));
     }
   }
@@ -104,16 +103,88 @@ void RefuseFisheye(SettingsReader& reader) {
   }
 }
 
-std::optional<SettingsCamera> ReadOrbSlam2(SettingsReader& reader,
-                                           std::vector<std::string>* warnings) {
-  for (const char* prefix : {"LEFT.", "RIGHT."}) {
-    if (reader.HasPrefix(prefix)) {
-      const std::string key = reader.Has("LEFT.K") ? "LEFT.K" : std::string(prefix) + "K";
-      Refuse(reader, key,
-             "LEFT.K/D/R/P and RIGHT.K/D/R/P describe unrectified stereo images (ORB-SLAM2 "
-             "rectifies them on load; planeloc does not)");
+// The raw camera `prefix` ("LEFT." / "RIGHT.") of an ORB-SLAM2 EuRoC-style file.
+struct RawSide {
+  RawCamera camera;
+  cv::Mat r, p;
+  cv::Size size;
+};
+
+std::optional<RawSide> ReadRawSide(SettingsReader& reader, const std::string& prefix) {
+  RawSide side;
+  const auto k = reader.Matrix(prefix + "K", 3, 3);
+  const auto d = reader.Matrix(prefix + "D", -1, -1);
+  const auto r = reader.Matrix(prefix + "R", 3, 3);
+  const auto p = reader.Matrix(prefix + "P", 3, 4);
+  const auto width = reader.Integer(prefix + "width");
+  const auto height = reader.Integer(prefix + "height");
+  for (const char* key : {"K", "D", "R", "P", "width", "height"}) {
+    if (!reader.Has(prefix + key)) {
+      reader.AddProblem(reader.LineOf(prefix + "K"),
+                        fmt::format("{}{} is missing: a raw stereo pair needs LEFT. and RIGHT. "
+                                    "K, D, R, P, width and height",
+                                    prefix, key));
     }
   }
+  if (d && d->total() != 4 && d->total() != 5) {
+    reader.AddError(prefix + "D", "4 or 5 distortion values (k1, k2, p1, p2[, k3])");
+  }
+  if ((width && *width <= 0) || (height && *height <= 0)) {
+    reader.AddError(prefix + "width", "an image size > 0 (pixels)");
+  }
+  if (!k || !d || !r || !p || !width || !height || reader.HasErrors()) return std::nullopt;
+  side.camera = {*k, d->reshape(1, 1)};
+  side.r = *r;
+  side.p = *p;
+  side.size = cv::Size(*width, *height);
+  return side;
+}
+
+// Builds the rectifier of an ORB-SLAM2 LEFT/RIGHT rig; the camera becomes LEFT.P / RIGHT.P.
+std::optional<SettingsCamera> RawOrbSlam2Rig(SettingsReader& reader, SettingsCamera camera,
+                                             std::vector<std::string>* warnings) {
+  const std::optional<RawSide> left = ReadRawSide(reader, "LEFT.");
+  const std::optional<RawSide> right = ReadRawSide(reader, "RIGHT.");
+  if (!left || !right) return std::nullopt;
+  if (left->size != right->size) {
+    reader.AddProblem(reader.LineOf("RIGHT.width"),
+                      "LEFT.width/height and RIGHT.width/height differ");
+    return std::nullopt;
+  }
+  try {
+    camera.rectifier = std::make_shared<StereoRectifier>(StereoRectifier::FromRectification(
+        left->camera, left->r, left->p, right->camera, right->r, right->p, left->size));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(
+        reader.path().string(), reader.LineOf("RIGHT.P"),
+        std::string("LEFT/RIGHT do not describe a rectifiable stereo pair: ") + e.what(),
+        "give LEFT.P and RIGHT.P of one rectification (same fx, cx; RIGHT.P(0,3) = "
+        "-fx * baseline)");
+  }
+  const StereoCamera& rectified = camera.rectifier->camera();
+  if (std::abs(rectified.fx - camera.fx) > 0.5 || std::abs(rectified.cx - camera.cx) > 0.5 ||
+      std::abs(rectified.cy - camera.cy) > 0.5 ||
+      std::abs(rectified.baseline - camera.baseline) > 0.005 * rectified.baseline) {
+    warnings->push_back(fmt::format(
+        "line {}: Camera.fx/cx/cy/bf ({}, {}, {}, {}) differ from LEFT.P/RIGHT.P ({}, {}, {}, "
+        "{}); LEFT.P/RIGHT.P are used",
+        camera.line, camera.fx, camera.cx, camera.cy, camera.baseline * camera.fx, rectified.fx,
+        rectified.cx, rectified.cy, rectified.BaselineTimesFx()));
+  }
+  camera.fx = rectified.fx;
+  camera.fy = rectified.fy;
+  camera.cx = rectified.cx;
+  camera.cy = rectified.cy;
+  camera.baseline = rectified.baseline;
+  camera.width = left->size.width;
+  camera.height = left->size.height;
+  camera.fx_key = camera.fy_key = camera.cx_key = camera.cy_key = "LEFT.P";
+  camera.baseline_key = "RIGHT.P";
+  return camera;
+}
+
+std::optional<SettingsCamera> ReadOrbSlam2(SettingsReader& reader,
+                                           std::vector<std::string>* warnings) {
   const std::optional<std::string> type = reader.String("Camera.type");
   if (type && *type != "PinHole" && *type != "Rectified") {
     reader.AddError("Camera.type", "\"PinHole\" or \"Rectified\"");
@@ -140,11 +211,30 @@ std::optional<SettingsCamera> ReadOrbSlam2(SettingsReader& reader,
   }
   camera.baseline = *bf / camera.fx;
   camera.baseline_key = "Camera.bf";
+  if (reader.HasPrefix("LEFT.") || reader.HasPrefix("RIGHT.")) {
+    return RawOrbSlam2Rig(reader, camera, warnings);
+  }
   return camera;
 }
 
-// A PinHole pair (Camera2, Stereo.T_c1_c2) that is rectified already: returns the baseline.
-double RectifiedPinHoleBaseline(SettingsReader& reader, const SettingsCamera& left) {
+RawCamera PinHoleCamera(SettingsReader& reader, const SettingsCamera& c,
+                        const std::string& prefix) {
+  RawCamera camera;
+  camera.k = (cv::Mat_<double>(3, 3) << c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
+  std::vector<double> d;
+  for (const char* k : {"k1", "k2", "p1", "p2", "k3"}) {
+    if (reader.Has(prefix + k) || std::string(k) != "k3") {
+      d.push_back(reader.Number(prefix + k).value_or(0.0));
+    }
+  }
+  camera.d = cv::Mat(d, true).reshape(1, 1);
+  return camera;
+}
+
+// A PinHole pair (Camera2, Stereo.T_c1_c2): returns the baseline when the pair is rectified
+// already; otherwise sets `raw_reasons` (why it is not) and `rectifier`.
+double PinHoleBaseline(SettingsReader& reader, const SettingsCamera& left,
+                       std::string* raw_reasons) {
   SettingsCamera right;
   const bool has_right = ReadIntrinsics(reader, "Camera2.", right);
   std::optional<cv::Mat> c1_from_c2;
@@ -171,19 +261,53 @@ double RectifiedPinHoleBaseline(SettingsReader& reader, const SettingsCamera& le
                        std::abs(t.at<double>(2, 3)) <= 1e-6 && t.at<double>(0, 3) > 0;
   std::string reasons;
   auto reason = [&](bool bad, const char* what) {
-    if (bad) reasons += (reasons.empty() ? "" : ", ") + std::string(what);
+    if (bad) reasons.append(reasons.empty() ? "" : ", ").append(what);
   };
   reason(!zero1 || !zero2, "distortion");
   reason(!same_intrinsics, "different intrinsics");
   reason(!identity_rotation, "a rotation between the cameras");
   reason(!along_x, "a translation not along +x");
   if (!reasons.empty()) {
-    Refuse(reader, "Stereo.T_c1_c2",
-           "Camera.type \"PinHole\" with Camera1/Camera2 and Stereo.T_c1_c2 is an unrectified "
-           "pair (" +
-               reasons + "); ORB-SLAM3 rectifies it on load, planeloc does not");
+    *raw_reasons = reasons;
+    return 0.0;
   }
   return t.at<double>(0, 3);
+}
+
+// Builds the rectifier of an unrectified ORB-SLAM3 PinHole pair (cv::stereoRectify).
+std::optional<SettingsCamera> RawOrbSlam3Rig(SettingsReader& reader, SettingsCamera camera,
+                                             const std::string& reasons,
+                                             std::vector<std::string>* warnings) {
+  if (camera.width <= 0 || camera.height <= 0) {
+    reader.AddProblem(camera.line,
+                      "Camera.width and Camera.height are needed to rectify the PinHole pair");
+    return std::nullopt;
+  }
+  SettingsCamera right;
+  ReadIntrinsics(reader, "Camera2.", right);
+  const RawCamera left_raw = PinHoleCamera(reader, camera, "Camera1.");
+  const RawCamera right_raw = PinHoleCamera(reader, right, "Camera2.");
+  const cv::Mat c1_from_c2 = *reader.Matrix("Stereo.T_c1_c2", 4, 4);
+  try {
+    camera.rectifier = std::make_shared<StereoRectifier>(StereoRectifier::FromExtrinsics(
+        left_raw, right_raw, c1_from_c2, cv::Size(camera.width, camera.height)));
+  } catch (const std::exception& e) {
+    throw InputError(reader.path().string(), reader.LineOf("Stereo.T_c1_c2"),
+                     std::string("cannot rectify the PinHole pair: ") + e.what(),
+                     "check Camera1.*, Camera2.* and Stereo.T_c1_c2 (c1_from_c2, metres)");
+  }
+  const StereoCamera& rectified = camera.rectifier->camera();
+  warnings->push_back(fmt::format(
+      "line {}: the PinHole pair is not rectified ({}): rectifying every frame on load, "
+      "rectified fx {:.3f}, cx {:.3f}, cy {:.3f}, baseline {:.5f} m",
+      reader.LineOf("Stereo.T_c1_c2"), reasons, rectified.fx, rectified.cx, rectified.cy,
+      rectified.baseline));
+  camera.fx = rectified.fx;
+  camera.fy = rectified.fy;
+  camera.cx = rectified.cx;
+  camera.cy = rectified.cy;
+  camera.baseline = rectified.baseline;
+  return camera;
 }
 
 std::optional<SettingsCamera> ReadOrbSlam3(SettingsReader& reader,
@@ -216,8 +340,10 @@ std::optional<SettingsCamera> ReadOrbSlam3(SettingsReader& reader,
   const std::optional<double> b = reader.Number("Stereo.b");
   if (b && *b <= 0) reader.AddError("Stereo.b", "a baseline > 0 (metres)");
   if (*type == "PinHole" && (reader.HasPrefix("Camera2.") || reader.Has("Stereo.T_c1_c2"))) {
-    camera.baseline = RectifiedPinHoleBaseline(reader, camera);
+    std::string raw_reasons;
+    camera.baseline = PinHoleBaseline(reader, camera, &raw_reasons);
     camera.baseline_key = "Stereo.T_c1_c2";
+    if (!raw_reasons.empty()) return RawOrbSlam3Rig(reader, camera, raw_reasons, warnings);
     if (b && std::abs(*b - camera.baseline) > 0.005 * camera.baseline) {
       warnings->push_back(
           fmt::format("line {}: Stereo.b = {} differs from the translation of Stereo.T_c1_c2 ({}); "
@@ -262,6 +388,17 @@ std::optional<SettingsCamera> ReadSettingsCamera(SettingsReader& reader,
 StereoCamera ChooseCamera(const StereoCamera& sequence, const std::optional<SettingsCamera>& file,
                           bool from_settings, const std::filesystem::path& settings_path,
                           std::vector<std::string>* warnings) {
+  if (file && file->rectifier) {
+    const cv::Size size = file->rectifier->size();
+    CheckInput(size.width == sequence.width && size.height == sequence.height,
+               settings_path.string(), file->line,
+               fmt::format("the raw stereo rig of the settings is for {}x{} images, the sequence's "
+                           "images are {}x{}",
+                           size.width, size.height, sequence.width, sequence.height),
+               "give the calibration of these images (LEFT/RIGHT.width/height or "
+               "Camera.width/height)");
+    return file->rectifier->camera();
+  }
   if (!file) {
     CheckInput(!from_settings, settings_path.string(), 0,
                "the calibration of the settings file was asked for, but the file has none",

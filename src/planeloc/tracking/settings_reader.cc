@@ -234,7 +234,8 @@ std::optional<cv::Mat> SettingsReader::Matrix(const std::string& key, int rows, 
   const Entry* entry = Find(key);
   if (!entry) return std::nullopt;
   const std::string expected =
-      fmt::format("a {}x{} !!opencv-matrix (rows, cols, dt, data)", rows, cols);
+      fmt::format("a {}x{} !!opencv-matrix (rows, cols, dt, data)",
+                  rows < 0 ? "N" : std::to_string(rows), cols < 0 ? "N" : std::to_string(cols));
   if (!IsMatrixNode(entry->node)) {
     AddError(key, expected);
     return std::nullopt;
@@ -245,7 +246,8 @@ std::optional<cv::Mat> SettingsReader::Matrix(const std::string& key, int rows, 
   } catch (const cv::Exception&) {
     matrix.release();
   }
-  if (matrix.rows != rows || matrix.cols != cols || matrix.channels() != 1) {
+  if (matrix.empty() || (rows >= 0 && matrix.rows != rows) || (cols >= 0 && matrix.cols != cols) ||
+      matrix.channels() != 1) {
     AddError(key, expected);
     return std::nullopt;
   }
@@ -265,7 +267,7 @@ void SettingsReader::ThrowIfErrors(const std::string& fix) const {
     return (a.first == 0 ? INT_MAX : a.first) < (b.first == 0 ? INT_MAX : b.first);
   });
   std::string all;
-  for (const auto& e : sorted) all += (all.empty() ? "" : "; ") + e.second;
+  for (const auto& e : sorted) all.append(all.empty() ? "" : "; ").append(e.second);
   throw InputError(path_.string(), sorted.front().first, "invalid settings: " + all, fix);
 }
 
@@ -280,7 +282,7 @@ std::vector<const SettingsReader::Entry*> SettingsReader::Unused() const {
 std::string SettingsReader::Describe(const cv::FileNode& node) {
   if (node.isInt()) return std::to_string(static_cast<int>(node));
   if (node.isReal()) return fmt::format("{}", static_cast<double>(node));
-  if (node.isString()) return "\"" + node.string() + "\"";
+  if (node.isString()) return fmt::format("\"{}\"", node.string());
   if (IsMatrixNode(node)) {
     return fmt::format("!!opencv-matrix {}x{}", Describe(node["rows"]), Describe(node["cols"]));
   }
@@ -291,9 +293,9 @@ std::string SettingsReader::Describe(const cv::FileNode& node) {
         items += ", ...";
         break;
       }
-      items += (items.empty() ? "" : ", ") + Describe(*it);
+      items.append(items.empty() ? "" : ", ").append(Describe(*it));
     }
-    return "[" + items + "]";
+    return fmt::format("[{}]", items);
   }
   if (node.isMap()) return "a map";
   return "";

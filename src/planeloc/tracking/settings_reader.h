@@ -51,7 +51,7 @@ class SettingsReader {
   // 0/1, or the strings true/false (any case).
   std::optional<bool> Flag(const std::string& key);
   std::optional<std::string> String(const std::string& key);
-  // An `!!opencv-matrix` of exactly rows x cols (as CV_64F).
+  // An `!!opencv-matrix` of rows x cols (as CV_64F); -1 accepts any count.
   std::optional<cv::Mat> Matrix(const std::string& key, int rows, int cols);
 
   void MarkUsed(const std::string& key);
