@@ -64,7 +64,7 @@ printf '%%YAML:1.0\nCamera.type: "PinHole"\nORBextractor.nFeatures: many\n' >"$w
 expect_error "run settings mistyped key" 'mistyped.yaml:3: invalid settings: line 3: ORBextractor.nFeatures = "many": expected an integer' -- \
   "$planeloc" run --sequence "$work/nope" --no-planes --config "$work/mistyped.yaml" --out "$work/t.txt"
 printf '%%YAML:1.0\nCamera.fx: 435.2\nCamera.fy: 435.2\nCamera.cx: 367.4\nCamera.cy: 252.2\nCamera.bf: 47.9\nLEFT.K: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n  data:[458, 0, 367, 0, 457, 248, 0, 0, 1]\n' >"$work/unrectified.yaml"
-expect_error "run settings unrectified stereo" "unrectified.yaml:7" -- \
+expect_error "run settings incomplete raw rig" "unrectified.yaml:7: invalid settings: line 7: LEFT.D is missing" -- \
   "$planeloc" run --sequence "$work/nope" --no-planes --config "$work/unrectified.yaml" --out "$work/t.txt"
 expect_error "run settings missing file" "$work/nosettings.yaml" -- \
   "$planeloc" run --sequence "$work/nope" --no-planes --config "$work/nosettings.yaml" --out "$work/t.txt"

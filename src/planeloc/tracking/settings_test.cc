@@ -350,28 +350,142 @@ TEST(SettingsTest, SyntaxErrorNamesFileAndLine) {
   EXPECT_THROW(LoadTrackerSettings(WriteFile(dir, "- 1\n- 2\n"), TrackerOptions{}), InputError);
 }
 
-TEST(SettingsTest, RefusesUnrectifiedFisheyeAndResizedInput) {
-  TempDir dir;
-  // ORB-SLAM2 EuRoC-style: rectified intrinsics plus the raw calibration to rectify with.
-  const std::string euroc = std::string(kOrbSlam2) +
-                            "LEFT.height: 480\nLEFT.width: 752\nLEFT.K: !!opencv-matrix\n"
-                            "   rows: 3\n   cols: 3\n   dt: d\n"
-                            "   data:[458.0, 0.0, 367.0, 0.0, 457.0, 248.0, 0.0, 0.0, 1.0]\n";
-  const std::string unrectified =
-      Message([&] { LoadTrackerSettings(WriteFile(dir, euroc), TrackerOptions{}); });
-  EXPECT_NE(unrectified.find("settings.yaml:36:"), std::string::npos) << unrectified;
-  EXPECT_NE(unrectified.find("unrectified"), std::string::npos);
-  EXPECT_NE(unrectified.find("rectified stereo pairs only"), std::string::npos);
+// ORB-SLAM2 EuRoC-style raw rig (numbers made up, EuRoC-like): LEFT/RIGHT K, D, R, P.
+constexpr const char* kOrbSlam2RawRig = R"(%YAML:1.0
+Camera.type: "PinHole"
+Camera.fx: 436.0
+Camera.fy: 436.0
+Camera.cx: 367.5
+Camera.cy: 252.0
+Camera.k1: 0.0
+Camera.k2: 0.0
+Camera.p1: 0.0
+Camera.p2: 0.0
+Camera.width: 752
+Camera.height: 480
+Camera.fps: 20.0
+Camera.bf: 47.96
+Camera.RGB: 1
+ThDepth: 35
 
-  // ORB-SLAM3 PinHole pair with a rotation between the cameras and distortion.
-  std::string rotated = kOrbSlam3PinHole;
-  rotated.replace(rotated.find("Camera2.k1: 0.0"), 15, "Camera2.k1: -0.28");
-  rotated.replace(rotated.find("data:[1.0, 0.0"), 14, "data:[0.9999, 0.0141");
-  const std::string pinhole =
-      Message([&] { LoadTrackerSettings(WriteFile(dir, rotated), TrackerOptions{}); });
-  EXPECT_NE(pinhole.find("unrectified pair (distortion, a rotation between the cameras"),
+# Rectification of the raw images.
+LEFT.height: 480
+LEFT.width: 752
+LEFT.D: !!opencv-matrix
+   rows: 1
+   cols: 5
+   dt: d
+   data:[-0.28, 0.074, 2.0e-4, 2.0e-5, 0.0]
+LEFT.K: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [458.0, 0.0, 367.0, 0.0, 457.0, 248.0, 0.0, 0.0, 1.0]
+LEFT.R:  !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [0.99997, -0.0014, 0.0081, 0.0014, 0.99997, 0.0071, -0.0081, -0.0071, 0.99994]
+LEFT.P:  !!opencv-matrix
+   rows: 3
+   cols: 4
+   dt: d
+   data: [436.0, 0, 367.5, 0,  0, 436.0, 252.0, 0,  0, 0, 1, 0]
+
+RIGHT.height: 480
+RIGHT.width: 752
+RIGHT.D: !!opencv-matrix
+   rows: 1
+   cols: 5
+   dt: d
+   data:[-0.283, 0.0745, -1.0e-4, -3.5e-5, 0.0]
+RIGHT.K: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [457.5, 0.0, 380.0, 0.0, 456.0, 255.0, 0.0, 0.0, 1]
+RIGHT.R:  !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [0.99996, -0.0036, 0.0078, 0.0037, 0.99997, -0.0070, -0.0077, 0.0071, 0.99995]
+RIGHT.P:  !!opencv-matrix
+   rows: 3
+   cols: 4
+   dt: d
+   data: [436.0, 0, 367.5, -47.96, 0, 436.0, 252.0, 0, 0, 0, 1, 0]
+
+ORBextractor.nFeatures: 1200
+Viewer.PointSize:2
+)";
+
+TEST(SettingsTest, RawOrbSlam2RigIsRectifiedOnLoad) {
+  TempDir dir;
+  const SettingsFile file = LoadTrackerSettings(WriteFile(dir, kOrbSlam2RawRig), {});
+  ASSERT_TRUE(file.camera.has_value());
+  ASSERT_TRUE(file.camera->rectifier);
+  EXPECT_EQ(file.camera->fx, 436.0);
+  EXPECT_EQ(file.camera->cy, 252.0);
+  EXPECT_DOUBLE_EQ(file.camera->baseline, 0.11);
+  EXPECT_EQ(file.camera->rectifier->size(), cv::Size(752, 480));
+  EXPECT_TRUE(file.warnings.empty()) << file.warnings.front();
+  EXPECT_EQ(file.options.orb.num_features, 1200);
+
+  // The settings' camera is used whatever the sequence says; the images must have the rig's size.
+  StereoCamera sequence = TestCamera();
+  std::vector<std::string> warnings;
+  EXPECT_THROW(ChooseCamera(sequence, file.camera, false, "s.yaml", &warnings), InputError);
+  sequence.width = 752;
+  sequence.height = 480;
+  EXPECT_EQ(ChooseCamera(sequence, file.camera, false, "s.yaml", &warnings).fx, 436.0);
+
+  // Written back (LEFT/RIGHT in ORB-SLAM2 layout) and read again: the same rectification.
+  const std::string written = TrackerSettingsYaml(file.options, file.camera->rectifier->camera(),
+                                                  true, file.camera->rectifier.get());
+  const SettingsFile again = LoadTrackerSettings(WriteFile(dir, written, "again.yaml"), {});
+  ASSERT_TRUE(again.camera && again.camera->rectifier);
+  EXPECT_TRUE(again.warnings.empty()) << again.warnings.front();
+  EXPECT_EQ(TrackerSettingsYaml(again.options, again.camera->rectifier->camera(), true,
+                                again.camera->rectifier.get()),
+            written);
+  cv::Mat image(480, 752, CV_8UC1);
+  cv::randu(image, 0, 255);
+  const StereoPair a = file.camera->rectifier->Rectify({image, image});
+  const StereoPair b = again.camera->rectifier->Rectify({image, image});
+  EXPECT_EQ(cv::norm(a.left, b.left, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(a.right, b.right, cv::NORM_INF), 0.0);
+}
+
+TEST(SettingsTest, RawOrbSlam3PinHolePairIsRectifiedOnLoad) {
+  TempDir dir;
+  std::string raw = kOrbSlam3PinHole;
+  raw.replace(raw.find("Camera2.k1: 0.0"), 15, "Camera2.k1: -0.28");
+  raw.replace(raw.find("data:[1.0, 0.0, 0.0"), 19, "data:[0.9999, 0.0141, 0.0");
+  raw.replace(raw.find("0.0, 1.0, 0.0, 0.0,"), 19, "-0.0141, 0.9999, 0.0, 0.0,");
+  const SettingsFile file = LoadTrackerSettings(WriteFile(dir, raw), {});
+  ASSERT_TRUE(file.camera && file.camera->rectifier);
+  EXPECT_NEAR(file.camera->baseline, 0.537, 1e-6);  // the written rotation is orthonormal to 1e-6
+  ASSERT_EQ(file.warnings.size(), 1u);
+  EXPECT_NE(file.warnings[0].find(
+                "not rectified (distortion, a rotation between the cameras): rectifying every "
+                "frame on load"),
             std::string::npos)
-      << pinhole;
+      << file.warnings[0];
+}
+
+TEST(SettingsTest, RefusesIncompleteRigsFisheyeAndResizedInput) {
+  TempDir dir;
+  const std::string incomplete = std::string(kOrbSlam2) +
+                                 "LEFT.height: 480\nLEFT.width: 752\nLEFT.K: !!opencv-matrix\n"
+                                 "   rows: 3\n   cols: 3\n   dt: d\n"
+                                 "   data:[458.0, 0.0, 367.0, 0.0, 457.0, 248.0, 0.0, 0.0, 1.0]\n";
+  const std::string rig =
+      Message([&] { LoadTrackerSettings(WriteFile(dir, incomplete), TrackerOptions{}); });
+  EXPECT_NE(rig.find("settings.yaml:36:"), std::string::npos) << rig;
+  EXPECT_NE(rig.find("LEFT.D is missing: a raw stereo pair needs LEFT. and RIGHT. K, D, R, P"),
+            std::string::npos)
+      << rig;
+  EXPECT_NE(rig.find("RIGHT.K is missing"), std::string::npos) << rig;
 
   std::string fisheye = kOrbSlam3Rectified;
   fisheye.replace(fisheye.find("\"Rectified\""), 11, "\"KannalaBrandt8\"");
