@@ -273,7 +273,9 @@ SettingsFile LoadTrackerSettings(const std::filesystem::path& path, const Tracke
           fmt::format("line {}: unknown key {} ignored", entry.line, entry.key));
     }
   }
-  if (camera) ChooseCamera(*camera, result.camera, false, path, &result.warnings);
+  if (camera && !(result.camera && result.camera->rectifier)) {
+    ChooseCamera(*camera, result.camera, false, path, &result.warnings);
+  }
   return result;
 }
 

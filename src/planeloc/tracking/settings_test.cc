@@ -1,8 +1,10 @@
 #include "planeloc/tracking/settings.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <sstream>
@@ -684,6 +686,57 @@ TEST_F(SettingsRunTest, CalibrationFromSettingsIsUsedAndWrittenBack) {
   EXPECT_EQ(effective.camera->baseline, 0.55);
   // The sequence's calibration wins by default.
   EXPECT_NEAR(RunWith("sequence_calib", wider.c_str(), false).camera.baseline, 0.537, 1e-9);
+}
+
+// A raw rig whose rectification is the identity (the sim's rectified K, no distortion, R = I,
+// P from calib.txt): the run rectifies every frame on load and still equals the reference run
+// bit for bit; its effective settings record the rig and read back to it.
+TEST_F(SettingsRunTest, RawRigRectifiedOnLoadRunsLikeTheRectifiedSequence) {
+  std::ifstream calib(result_->sequence_dir / "calib.txt");
+  std::map<std::string, std::string> rows;
+  std::string line;
+  while (std::getline(calib, line)) {
+    const auto colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    std::istringstream values(line.substr(colon + 1));
+    std::string value, joined;
+    while (values >> value) joined.append(joined.empty() ? "" : ", ").append(value);
+    rows[line.substr(0, colon)] = joined;
+  }
+  ASSERT_TRUE(rows.count("P0") && rows.count("P1"));
+  const RunSummary reference = RunWith("reference", kPlanelocKeys, false);
+  const StereoCamera& c = reference.camera;
+  const std::string k = fmt::format("[{}, 0, {}, 0, {}, {}, 0, 0, 1]", c.fx, c.cx, c.fy, c.cy);
+  std::string rig = std::string(kPlanelocKeys) + "Viewer.PointSize:2\n";
+  for (const auto& [side, p] :
+       {std::pair<std::string, std::string>{"LEFT", "P0"}, {"RIGHT", "P1"}}) {
+    rig += fmt::format(
+        "{0}.width: {1}\n{0}.height: {2}\n"
+        "{0}.K: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n  data:{3}\n"
+        "{0}.D: !!opencv-matrix\n  rows: 1\n  cols: 5\n  dt: d\n  data:[0, 0, 0, 0, 0]\n"
+        "{0}.R: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n  data:[1, 0, 0, 0, 1, 0, 0, 0, "
+        "1]\n"
+        "{0}.P: !!opencv-matrix\n  rows: 3\n  cols: 4\n  dt: d\n  data:[{4}]\n",
+        side, c.width, c.height, k, rows[p]);
+  }
+  rig = "%YAML:1.0\n" +
+        fmt::format(
+            "Camera.fx: {}\nCamera.fy: {}\nCamera.cx: {}\nCamera.cy: {}\n"
+            "Camera.bf: {}\n",
+            c.fx, c.fy, c.cx, c.cy, c.BaselineTimesFx()) +
+        rig;
+  const RunSummary raw = RunWith("raw_rig", rig.c_str(), false);
+  EXPECT_EQ(raw.camera.fx, reference.camera.fx);
+  EXPECT_EQ(raw.camera.baseline, reference.camera.baseline);
+  EXPECT_EQ(ReadBytes(dir_->path() / "raw_rig.txt"), ReadBytes(dir_->path() / "reference.txt"));
+  const SettingsFile effective =
+      LoadTrackerSettings(dir_->path() / "raw_rig.txt.config.yaml", TrackerOptions{});
+  ASSERT_TRUE(effective.camera && effective.camera->rectifier);
+  EXPECT_TRUE(effective.calibration_from_settings);
+  EXPECT_EQ(effective.camera->rectifier->camera().baseline, raw.camera.baseline);
+  EXPECT_EQ(
+      TrackerSettingsYaml(effective.options, raw.camera, true, effective.camera->rectifier.get()),
+      ReadBytes(dir_->path() / "raw_rig.txt.config.yaml"));
 }
 
 TEST(SettingsTest, CheckNamesTheField) {
