@@ -37,7 +37,7 @@ int FirstLine(const SettingsReader& reader, const std::string& prefix) {
   return 0;
 }
 
-// fx, fy, cx, cy under `prefix` ("Camera." or "Camera1."); nullopt unless all four are numbers.
+// fx, fy, cx, cy under `prefix` ("Camera." or "Camera1."); false unless all four are numbers.
 // Some but not all of them is an error.
 bool ReadIntrinsics(SettingsReader& reader, const std::string& prefix, SettingsCamera& camera) {
   const std::optional<double> fx = reader.Number(prefix + "fx"), fy = reader.Number(prefix + "fy"),
