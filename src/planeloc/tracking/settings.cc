@@ -262,11 +262,17 @@ SettingsFile LoadTrackerSettings(const std::filesystem::path& path, const Tracke
           "line {}: {} is given more than once; the last value is used", entry.line, entry.key));
     }
   }
+  // The distortion of an ORB-SLAM3 PinHole pair that is rectified on load is used.
+  const bool raw_pinhole_pair =
+      result.camera && result.camera->rectifier && result.camera->layout == "ORB-SLAM3";
+  auto used_distortion = [&](const std::string& key) {
+    return raw_pinhole_pair && (key.rfind("Camera1.", 0) == 0 || key.rfind("Camera2.", 0) == 0);
+  };
   std::map<std::string, bool> listed;
   for (const SettingsReader::Entry& entry : reader.entries()) {
     if (listed[entry.key]) continue;
     listed[entry.key] = true;
-    if (IsNotApplicable(entry.key)) {
+    if (IsNotApplicable(entry.key) && !used_distortion(entry.key)) {
       result.ignored.push_back(entry.key);
     } else if (!entry.used) {
       result.warnings.push_back(

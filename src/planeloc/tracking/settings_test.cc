@@ -466,7 +466,10 @@ TEST(SettingsTest, RawOrbSlam3PinHolePairIsRectifiedOnLoad) {
   raw.replace(raw.find("0.0, 1.0, 0.0, 0.0,"), 19, "-0.0141, 0.9999, 0.0, 0.0,");
   const SettingsFile file = LoadTrackerSettings(WriteFile(dir, raw), {});
   ASSERT_TRUE(file.camera && file.camera->rectifier);
-  EXPECT_NEAR(file.camera->baseline, 0.537, 1e-6);  // the written rotation is orthonormal to 1e-6
+  EXPECT_NEAR(file.camera->baseline, 0.537, 1e-6);
+  EXPECT_EQ(file.ignored,
+            (std::vector<std::string>{
+                "Camera.RGB", "Viewer.PointSize"}));  // the written rotation is orthonormal to 1e-6
   ASSERT_EQ(file.warnings.size(), 1u);
   EXPECT_NE(file.warnings[0].find(
                 "not rectified (distortion, a rotation between the cameras): rectifying every "
