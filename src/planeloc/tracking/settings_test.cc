@@ -250,6 +250,23 @@ TEST(SettingsTest, ReadsPlanelocKeysWithoutHeaderNestedMapsAndFlags) {
   EXPECT_EQ(empty.options.orb.num_features, TrackerOptions{}.orb.num_features);
 }
 
+TEST(SettingsTest, ReadsWindowsLineEndingsAndAHeaderAfterComments) {
+  TempDir dir;
+  std::string crlf;
+  for (const char* c = kOrbSlam2; *c; ++c)
+    crlf += *c == '\n' ? std::string("\r\n") : std::string(1, *c);
+  const SettingsFile windows = LoadTrackerSettings(WriteFile(dir, crlf), TrackerOptions{});
+  ExpectFixtureOptions(windows);
+  ASSERT_TRUE(windows.camera.has_value());
+  EXPECT_EQ(windows.camera->line, 7);
+
+  const SettingsFile late = LoadTrackerSettings(
+      WriteFile(dir, "\n# settings\n%YAML:1.0\nThDepth: 35\nbogus: 1\n"), TrackerOptions{});
+  EXPECT_DOUBLE_EQ(late.options.close_depth_baselines, 35.0);
+  ASSERT_EQ(late.warnings.size(), 1u);
+  EXPECT_NE(late.warnings[0].find("line 5: unknown key bogus"), std::string::npos);
+}
+
 TEST(SettingsTest, WarnsAboutUnknownKeysWithTheirLine) {
   TempDir dir;
   const SettingsFile file = LoadTrackerSettings(
