@@ -141,8 +141,9 @@ std::optional<RawSide> ReadRawSide(SettingsReader& reader, const std::string& pr
 }
 
 // Builds the rectifier of an ORB-SLAM2 LEFT/RIGHT rig; the camera becomes LEFT.P / RIGHT.P.
+// `compare`: the file also gives Camera.fx/fy/cx/cy/bf, which should equal LEFT.P/RIGHT.P.
 std::optional<SettingsCamera> RawOrbSlam2Rig(SettingsReader& reader, SettingsCamera camera,
-                                             std::vector<std::string>* warnings) {
+                                             bool compare, std::vector<std::string>* warnings) {
   const std::optional<RawSide> left = ReadRawSide(reader, "LEFT.");
   const std::optional<RawSide> right = ReadRawSide(reader, "RIGHT.");
   if (!left || !right) return std::nullopt;
@@ -162,9 +163,11 @@ std::optional<SettingsCamera> RawOrbSlam2Rig(SettingsReader& reader, SettingsCam
         "-fx * baseline)");
   }
   const StereoCamera& rectified = camera.rectifier->camera();
-  if (std::abs(rectified.fx - camera.fx) > 0.5 || std::abs(rectified.cx - camera.cx) > 0.5 ||
-      std::abs(rectified.cy - camera.cy) > 0.5 ||
-      std::abs(rectified.baseline - camera.baseline) > 0.005 * rectified.baseline) {
+  if (camera.line == 0) camera.line = reader.LineOf("LEFT.P");
+  if (compare &&
+      (std::abs(rectified.fx - camera.fx) > 0.5 || std::abs(rectified.cx - camera.cx) > 0.5 ||
+       std::abs(rectified.cy - camera.cy) > 0.5 ||
+       std::abs(rectified.baseline - camera.baseline) > 0.005 * rectified.baseline)) {
     warnings->push_back(fmt::format(
         "line {}: Camera.fx/cx/cy/bf ({}, {}, {}, {}) differ from LEFT.P/RIGHT.P ({}, {}, {}, "
         "{}); LEFT.P/RIGHT.P are used",
@@ -199,21 +202,23 @@ std::optional<SettingsCamera> ReadOrbSlam2(SettingsReader& reader,
         "rectified (no distortion)");
   }
   ReadImageSize(reader, camera);
-  if (!has_intrinsics && !bf) return std::nullopt;
-  if (!has_intrinsics || !bf) {
+  // LEFT/RIGHT alone define the (rectified) camera; Camera.* is then only compared with them.
+  const bool raw_rig = reader.HasPrefix("LEFT.") || reader.HasPrefix("RIGHT.");
+  if (!has_intrinsics && !bf && !raw_rig) return std::nullopt;
+  if (has_intrinsics != bf.has_value() && !reader.HasErrors()) {
     reader.AddProblem(reader.LineOf(bf ? "Camera.bf" : "Camera.fx"),
                       "Camera.fx, fy, cx, cy and Camera.bf go together");
     return std::nullopt;
   }
-  if (*bf <= 0) {
+  if (bf && *bf <= 0) {
     reader.AddError("Camera.bf", "baseline x fx > 0 (metres x pixels)");
     return std::nullopt;
   }
-  camera.baseline = *bf / camera.fx;
-  camera.baseline_key = "Camera.bf";
-  if (reader.HasPrefix("LEFT.") || reader.HasPrefix("RIGHT.")) {
-    return RawOrbSlam2Rig(reader, camera, warnings);
+  if (has_intrinsics && bf) {
+    camera.baseline = *bf / camera.fx;
+    camera.baseline_key = "Camera.bf";
   }
+  if (raw_rig) return RawOrbSlam2Rig(reader, camera, has_intrinsics && bf, warnings);
   return camera;
 }
 

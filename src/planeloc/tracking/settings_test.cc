@@ -450,6 +450,18 @@ TEST(SettingsTest, RawOrbSlam2RigIsRectifiedOnLoad) {
   EXPECT_TRUE(file.warnings.empty()) << file.warnings.front();
   EXPECT_EQ(file.options.orb.num_features, 1200);
 
+  // LEFT/RIGHT alone (no Camera.fx/fy/cx/cy/bf) define the camera too.
+  std::string rig_only = kOrbSlam2RawRig;
+  for (const char* key : {"Camera.fx", "Camera.fy", "Camera.cx", "Camera.cy", "Camera.bf"}) {
+    const auto begin = rig_only.find(key);
+    rig_only.erase(begin, rig_only.find('\n', begin) + 1 - begin);
+  }
+  const SettingsFile only = LoadTrackerSettings(WriteFile(dir, rig_only, "rig_only.yaml"), {});
+  ASSERT_TRUE(only.camera && only.camera->rectifier);
+  EXPECT_EQ(only.camera->fx, 436.0);
+  EXPECT_EQ(only.camera->line, 31);  // LEFT.P
+  EXPECT_TRUE(only.warnings.empty()) << only.warnings.front();
+
   // The settings' camera is used whatever the sequence says; the images must have the rig's size.
   StereoCamera sequence = TestCamera();
   std::vector<std::string> warnings;
