@@ -26,6 +26,7 @@ struct RunArgs {
   std::string format = "kitti";
   std::string stats;
   std::string config;
+  bool calib_from_settings = false;
   bool deterministic = false;
   int threads = 0;
   std::string cameras = "auto";
@@ -50,6 +51,7 @@ int Run(const RunArgs& args) {
   options.format = ParseTrajectoryFormat(args.format);
   if (!args.stats.empty()) options.stats_path = args.stats;
   if (!args.config.empty()) options.settings_path = args.config;
+  options.calibration_from_settings = args.calib_from_settings;
   if (!args.planes.empty()) options.planes_path = args.planes;
   if (!args.init_sigma.empty() && args.no_planes) {
     spdlog::warn(
@@ -136,7 +138,12 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
   cmd->add_option("--out", args->out, "Output trajectory (one pose per frame)")->required();
   cmd->add_option("--format", args->format, "kitti | tum")->capture_default_str();
   cmd->add_option("--stats", args->stats, "Per-frame statistics, JSON lines");
-  cmd->add_option("--config", args->config, "ORB-SLAM2 KITTI settings YAML / planeloc keys");
+  cmd->add_option(
+      "--config", args->config,
+      "Settings file: ORB-SLAM2 or ORB-SLAM3 stereo settings YAML and/or planeloc keys");
+  cmd->add_flag("--calib-from-settings", args->calib_from_settings,
+                "Use the --config file's intrinsics and baseline instead of the sequence's "
+                "calibration");
   cmd->add_flag("--deterministic", args->deterministic, "Local BA in line: bit-identical runs");
   cmd->add_option("--threads", args->threads, "Threads (0 = settings' default of 2)")
       ->check(CLI::NonNegativeNumber);

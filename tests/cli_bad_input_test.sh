@@ -56,6 +56,21 @@ printf '{"planes": [{"id": 0, "normal": [0, 0' >"$work/broken.json"
 expect_error "run corrupt plane map" "broken.json" -- \
   "$planeloc" run --sequence "$work/nope" --planes "$work/broken.json" --out "$work/t.txt"
 
+# Settings files (OpenCV FileStorage YAML) are read before the sequence: a bad one fails first.
+printf '%%YAML:1.0\nThDepth: 35\nORBextractor.nLevels: [8, 9\nCamera.fps: 10\n' >"$work/syntax.yaml"
+expect_error "run settings syntax error" "syntax.yaml:4" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --config "$work/syntax.yaml" --out "$work/t.txt"
+printf '%%YAML:1.0\nCamera.type: "PinHole"\nORBextractor.nFeatures: many\n' >"$work/mistyped.yaml"
+expect_error "run settings mistyped key" 'mistyped.yaml:3: invalid settings: line 3: ORBextractor.nFeatures = "many": expected an integer' -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --config "$work/mistyped.yaml" --out "$work/t.txt"
+printf '%%YAML:1.0\nCamera.fx: 435.2\nCamera.fy: 435.2\nCamera.cx: 367.4\nCamera.cy: 252.2\nCamera.bf: 47.9\nLEFT.K: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n  data:[458, 0, 367, 0, 457, 248, 0, 0, 1]\n' >"$work/unrectified.yaml"
+expect_error "run settings incomplete raw rig" "unrectified.yaml:7: invalid settings: line 7: LEFT.D is missing" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --config "$work/unrectified.yaml" --out "$work/t.txt"
+expect_error "run settings missing file" "$work/nosettings.yaml" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --config "$work/nosettings.yaml" --out "$work/t.txt"
+expect_error "run calib-from-settings without config" "--calib-from-settings" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --calib-from-settings --out "$work/t.txt"
+
 : >"$work/empty.xyz"
 expect_error "map planes empty map" "empty.xyz" -- \
   "$planeloc" map planes --map "$work/empty.xyz" --out "$work/planes.json"

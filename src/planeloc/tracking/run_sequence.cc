@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include "planeloc/io/plane_map.h"
@@ -53,15 +54,50 @@ Rigid3d FromTwelve(const std::vector<double>& v, const std::string& source, int 
   return Rigid3d::FromMatrix3x4(m);
 }
 
-TrackerOptions EffectiveOptions(const RunOptions& run, const StereoCamera& camera) {
+struct EffectiveSettings {
   TrackerOptions options;
-  if (run.settings_path) {
-    SettingsFile file = LoadTrackerSettings(*run.settings_path, options, camera);
-    for (const auto& warning : file.warnings) {
-      spdlog::warn("{}: {}", run.settings_path->string(), warning);
+  StereoCamera camera;
+  bool calibration_from_settings = false;
+  std::shared_ptr<const StereoRectifier> rectifier;  // raw images: rectified on load
+};
+
+// Reads the settings file before anything slow, so that a bad file fails first.
+std::optional<SettingsFile> ReadSettings(const RunOptions& run) {
+  CheckInput(run.settings_path || !run.calibration_from_settings, "", 0,
+             "--calib-from-settings needs a settings file",
+             "pass --config settings.yaml with the camera keys, or drop --calib-from-settings");
+  if (!run.settings_path) return std::nullopt;
+  return LoadTrackerSettings(*run.settings_path, TrackerOptions{});
+}
+
+EffectiveSettings Effective(const RunOptions& run, std::optional<SettingsFile> file,
+                            const StereoCamera& sequence_camera) {
+  EffectiveSettings effective;
+  effective.camera = sequence_camera;
+  if (file) {
+    const std::string path = run.settings_path->string();
+    effective.calibration_from_settings =
+        run.calibration_from_settings || file->calibration_from_settings;
+    effective.camera = ChooseCamera(sequence_camera, file->camera,
+                                    effective.calibration_from_settings, path, &file->warnings);
+    if (file->camera && file->camera->rectifier) {
+      effective.rectifier = file->camera->rectifier;
+      effective.calibration_from_settings = true;
+      spdlog::info(
+          "{}: raw stereo images, rectified on load (fx {:.3f}, cx {:.3f}, cy {:.3f}, baseline "
+          "{:.5f} m); the sequence's calibration is not used",
+          path, effective.camera.fx, effective.camera.cx, effective.camera.cy,
+          effective.camera.baseline);
     }
-    options = file.options;
+    for (const auto& warning : file->warnings) spdlog::warn("{}: {}", path, warning);
+    if (!file->ignored.empty()) {
+      std::string keys;
+      for (const auto& key : file->ignored) keys.append(keys.empty() ? "" : ", ").append(key);
+      spdlog::info("{}: not used by planeloc (ignored): {}", path, keys);
+    }
+    effective.options = file->options;
   }
+  TrackerOptions& options = effective.options;
   if (run.deterministic) options.deterministic = true;
   if (run.threads > 0) options.num_threads = run.threads;
   if (options.deterministic)
@@ -69,7 +105,7 @@ TrackerOptions EffectiveOptions(const RunOptions& run, const StereoCamera& camer
   else
     options.ba.num_threads = options.num_threads;
   options.Check();
-  return options;
+  return effective;
 }
 
 }  // namespace
@@ -137,15 +173,19 @@ RunSummary RunSequence(const RunOptions& run) {
                    run.planes_path->string());
     }
   }
+  std::optional<SettingsFile> settings = ReadSettings(run);
   const KittiSequence sequence = KittiSequence::Open(run.sequence, run.cameras);
   CheckInput(sequence.size() > 0, run.sequence.string(), 0, "the sequence has no frames",
              "point --sequence at a KITTI odometry sequence or raw drive folder");
-  summary.options = EffectiveOptions(run, sequence.camera());
+  const EffectiveSettings effective = Effective(run, std::move(settings), sequence.camera());
+  summary.options = effective.options;
+  summary.camera = effective.camera;
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(summary.options.num_threads));
   if (run.write_effective_settings) {
     WriteTrackerSettings(run.trajectory_path.string() + ".config.yaml", summary.options,
-                         sequence.camera());
+                         summary.camera, effective.calibration_from_settings,
+                         effective.rectifier.get());
   }
   TrajectoryWriter writer(run.trajectory_path, run.format);
   std::optional<std::ofstream> stats_out;
@@ -156,7 +196,7 @@ RunSummary RunSequence(const RunOptions& run) {
   }
   const std::size_t total =
       run.max_frames > 0 ? std::min<std::size_t>(run.max_frames, sequence.size()) : sequence.size();
-  Tracker tracker(sequence.camera(), summary.options, run.world_from_cam_initial,
+  Tracker tracker(summary.camera, summary.options, run.world_from_cam_initial,
                   plane_map ? &*plane_map : nullptr, run.start_prior);
   std::optional<ProgressBar> progress;
   if (run.show_progress) progress.emplace("run", total, "frames");
@@ -171,6 +211,7 @@ RunSummary RunSequence(const RunOptions& run) {
     } else {
       try {
         pair = sequence.LoadStereoPair(i);
+        if (effective.rectifier) pair = effective.rectifier->Rectify(*pair);
       } catch (const InputError& e) {
         spdlog::warn("frame {}: {}; pose from the motion model", i, e.what());
       }

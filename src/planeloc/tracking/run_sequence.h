@@ -22,8 +22,12 @@ struct RunOptions {
   Rigid3d world_from_cam_initial;         // pose of frame 0; the trajectory is in its frame
   std::filesystem::path trajectory_path;  // required
   TrajectoryFormat format = TrajectoryFormat::kKitti;
-  std::optional<std::filesystem::path> stats_path;     // JSON lines, one per frame
-  std::optional<std::filesystem::path> settings_path;  // ORB-SLAM2 / planeloc YAML
+  std::optional<std::filesystem::path> stats_path;  // JSON lines, one per frame
+  // ORB-SLAM2 / ORB-SLAM3 settings file and/or planeloc keys (OpenCV FileStorage YAML).
+  std::optional<std::filesystem::path> settings_path;
+  // Track with the settings file's intrinsics and baseline instead of the sequence's calibration
+  // (also chosen by the file's System.calibrationFromSettings: 1). Needs settings_path.
+  bool calibration_from_settings = false;
   // planes.json of `planeloc map planes`, in the frame of world_from_cam_initial; none: visual
   // odometry only (the baseline).
   std::optional<std::filesystem::path> planes_path;
@@ -53,6 +57,7 @@ struct RunSummary {
   std::vector<LockEvent> lock_events;    // map-frame corrections, in order
   std::string final_map_lock;            // "" without a plane map
   TrackerOptions options;                // effective
+  StereoCamera camera;                   // effective (sequence or settings calibration)
 };
 
 // Throws InputError for unreadable input (sequence, settings, output folder).

@@ -1,14 +1,15 @@
 #include "planeloc/tracking/settings.h"
 
 #include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <sstream>
 
+#include "planeloc/tracking/settings_reader.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
@@ -20,11 +21,12 @@ void Require(bool condition, const std::string& what) {
 
 // One settings key bound to a field of TrackerOptions.
 struct Key {
-  std::string name;
+  std::string name;  // written back under this name
   enum Kind { kInt, kDouble, kBool } kind;
   std::function<double&(TrackerOptions&)> real;  // kDouble
   std::function<int&(TrackerOptions&)> integer;  // kInt
   std::function<bool&(TrackerOptions&)> flag;    // kBool
+  std::string alias = {};                        // also read under this name
 };
 
 Key D(std::string name, std::function<double&(TrackerOptions&)> f) {
@@ -42,7 +44,13 @@ const std::vector<Key>& Keys() {
   static const std::vector<Key> keys = {
       // ORB-SLAM2 names.
       D("Camera.fps", [](O& o) -> double& { return o.fps; }),
-      D("ThDepth", [](O& o) -> double& { return o.close_depth_baselines; }),
+      // ORB-SLAM2 ThDepth, ORB-SLAM3 Stereo.ThDepth.
+      Key{"Stereo.ThDepth",
+          Key::kDouble,
+          [](O& o) -> double& { return o.close_depth_baselines; },
+          {},
+          {},
+          "ThDepth"},
       I("ORBextractor.nFeatures", [](O& o) -> int& { return o.orb.num_features; }),
       D("ORBextractor.scaleFactor", [](O& o) -> double& { return o.orb.scale_factor; }),
       I("ORBextractor.nLevels", [](O& o) -> int& { return o.orb.num_levels; }),
@@ -93,64 +101,92 @@ const std::vector<Key>& Keys() {
   return keys;
 }
 
-// ORB-SLAM2 keys planeloc reads but does not need (rectified KITTI: no distortion; no viewer).
-bool IsIgnoredKey(const std::string& key) {
-  static const std::vector<std::string> ignored = {
-      "Camera.k1",  "Camera.k2",    "Camera.p1",     "Camera.p2",     "Camera.k3",
-      "Camera.RGB", "Camera.width", "Camera.height", "DepthMapFactor"};
-  for (const auto& k : ignored) {
-    if (key == k) return true;
+// Keys of ORB-SLAM settings that do not apply to planeloc: accepted and listed as ignored.
+bool IsNotApplicable(const std::string& key) {
+  static const std::vector<std::string> exact = {"Camera.RGB",
+                                                 "Camera.bFishEye",
+                                                 "DepthMapFactor",
+                                                 "RGBD.DepthMapFactor",
+                                                 "System.LoadAtlasFromFile",
+                                                 "System.SaveAtlasToFile",
+                                                 "System.thFarPoints",
+                                                 "loopClosing",
+                                                 "InsertKFsWhenLost",
+                                                 "Tbc",
+                                                 "Tlr"};
+  static const std::vector<std::string> prefixes = {"Viewer.", "IMU.", "PointCloudMapping."};
+  static const std::vector<std::string> distortion = {"k1", "k2", "k3", "k4", "p1", "p2"};
+  if (std::find(exact.begin(), exact.end(), key) != exact.end()) return true;
+  for (const auto& prefix : prefixes) {
+    if (key.rfind(prefix, 0) == 0) return true;
   }
-  return key.rfind("Viewer.", 0) == 0 || key.rfind("LEFT.", 0) == 0 || key.rfind("RIGHT.", 0) == 0;
+  for (const char* camera : {"Camera.", "Camera1.", "Camera2."}) {
+    for (const auto& k : distortion) {
+      if (key == camera + k) return true;
+    }
+  }
+  return false;
 }
 
-// yaml-cpp rejects OpenCV's `%YAML:1.0` directive (no space): drop directive lines.
-std::string ReadWithoutDirectives(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  CheckInput(in.good(), path.string(), 0, "cannot open the settings file",
-             "check the path given to --config");
-  std::ostringstream out;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("%YAML", 0) == 0) line = "";  // keep line numbers
-    out << line << '\n';
+void ReadKey(SettingsReader& reader, const Key& key, const std::string& name,
+             TrackerOptions& options) {
+  switch (key.kind) {
+    case Key::kDouble:
+      if (const auto v = reader.Number(name)) key.real(options) = *v;
+      break;
+    case Key::kInt:
+      if (const auto v = reader.Integer(name)) key.integer(options) = *v;
+      break;
+    case Key::kBool:
+      if (const auto v = reader.Flag(name)) key.flag(options) = *v;
+      break;
   }
-  return out.str();
 }
 
-// Fills `values` with scalar keys; nested maps become dotted keys ("Camera: {fx: ..}").
-void Flatten(const YAML::Node& node, const std::string& prefix,
-             std::vector<std::pair<std::string, YAML::Node>>& values) {
-  for (const auto& item : node) {
-    const std::string key = prefix + item.first.as<std::string>();
-    if (item.second.IsMap()) {
-      Flatten(item.second, key + ".", values);
-    } else {
-      values.emplace_back(key, item.second);
+// The planeloc keys present in the file, in table order (an alias before its main name).
+std::vector<std::pair<const Key*, std::string>> PresentKeys(const SettingsReader& reader) {
+  std::vector<std::pair<const Key*, std::string>> present;
+  for (const Key& key : Keys()) {
+    for (const std::string& name : {key.alias, key.name}) {
+      if (!name.empty() && reader.Has(name)) present.emplace_back(&key, name);
+    }
+  }
+  return present;
+}
+
+// Applies the keys one at a time to find the one whose value makes TrackerOptions::Check fail.
+void ReportInvalidValues(SettingsReader& reader, const TrackerOptions& defaults) {
+  TrackerOptions options = defaults;
+  for (const auto& [key, name] : PresentKeys(reader)) {
+    ReadKey(reader, *key, name, options);
+    try {
+      options.Check();
+    } catch (const OptionsError& e) {
+      reader.AddError(name, fmt::format("a valid value ({})", e.what()));
+      options = defaults;
     }
   }
 }
 
-void CheckCamera(const std::string& key, double value, const StereoCamera& camera,
-                 std::vector<std::string>& warnings) {
-  double expected = 0;
-  if (key == "Camera.fx")
-    expected = camera.fx;
-  else if (key == "Camera.fy")
-    expected = camera.fy;
-  else if (key == "Camera.cx")
-    expected = camera.cx;
-  else if (key == "Camera.cy")
-    expected = camera.cy;
-  else if (key == "Camera.bf")
-    expected = camera.BaselineTimesFx();
-  else
-    return;
-  if (std::abs(value - expected) > 0.01 * std::abs(expected) + 0.5) {
-    warnings.push_back(fmt::format(
-        "{} = {} differs from the sequence calibration ({:.4f}); the calibration is used", key,
-        value, expected));
+// An !!opencv-matrix with doubles in shortest round-trip form.
+void WriteMatrix(std::ostream& out, const std::string& key, const cv::Mat& m) {
+  out << key << ": !!opencv-matrix\n";
+  out << fmt::format("  rows: {}\n  cols: {}\n  dt: d\n  data: [", m.rows, m.cols);
+  for (int r = 0; r < m.rows; ++r) {
+    for (int c = 0; c < m.cols; ++c) {
+      out << (r + c > 0 ? ", " : "") << fmt::format("{}", m.at<double>(r, c));
+    }
   }
+  out << "]\n";
+}
+
+void WriteRawSide(std::ostream& out, const std::string& side, const RawCamera& camera,
+                  const cv::Mat& r, const cv::Mat& p, cv::Size size) {
+  out << fmt::format("{0}.width: {1}\n{0}.height: {2}\n", side, size.width, size.height);
+  WriteMatrix(out, side + ".K", camera.k);
+  WriteMatrix(out, side + ".D", camera.d.reshape(1, 1));
+  WriteMatrix(out, side + ".R", r);
+  WriteMatrix(out, side + ".P", p);
 }
 
 }  // namespace
@@ -189,86 +225,90 @@ void TrackerOptions::Check() const {
 
 SettingsFile LoadTrackerSettings(const std::filesystem::path& path, const TrackerOptions& defaults,
                                  const std::optional<StereoCamera>& camera) {
-  const std::string text = ReadWithoutDirectives(path);
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(path.string(), e.mark.line + 1, "not valid YAML: " + e.msg,
-                     "fix the syntax (an ORB-SLAM2 settings file or planeloc keys)");
-  }
+  constexpr const char* kFix = "fix the listed keys (see docs/tracking.md for the accepted keys)";
+  SettingsReader reader(path);
   SettingsFile result;
   result.options = defaults;
-  if (root.IsNull()) return result;
-  CheckInput(root.IsMap(), path.string(), 0, "the settings file is not a map of keys",
-             "write `Key: value` lines");
-  std::vector<std::pair<std::string, YAML::Node>> values;
-  Flatten(root, "", values);
+  result.camera = ReadSettingsCamera(reader, &result.warnings);
+  result.calibration_from_settings = reader.Flag("System.calibrationFromSettings").value_or(false);
 
-  std::vector<std::string> errors;
-  for (const auto& [name, node] : values) {
-    const auto it =
-        std::find_if(Keys().begin(), Keys().end(), [&](const Key& k) { return k.name == name; });
-    const int line = node.Mark().line + 1;
-    if (it == Keys().end()) {
-      if (name.rfind("Camera.", 0) == 0 && !IsIgnoredKey(name) && camera) {
-        try {
-          CheckCamera(name, node.as<double>(), *camera, result.warnings);
-          continue;
-        } catch (const YAML::Exception&) {
-          errors.push_back(fmt::format("line {}: {} must be a number", line, name));
-          continue;
-        }
-      }
-      if (!IsIgnoredKey(name) && name.rfind("Camera.", 0) != 0) {
-        result.warnings.push_back(fmt::format("line {}: unknown key {} ignored", line, name));
-      }
-      continue;
-    }
-    try {
-      switch (it->kind) {
-        case Key::kDouble:
-          it->real(result.options) = node.as<double>();
-          break;
-        case Key::kInt: {
-          const double v = node.as<double>();
-          if (v != std::floor(v)) throw YAML::Exception(node.Mark(), "not an integer");
-          it->integer(result.options) = static_cast<int>(v);
-          break;
-        }
-        case Key::kBool:
-          it->flag(result.options) = node.as<bool>();
-          break;
-      }
-    } catch (const YAML::Exception&) {
-      const char* type = it->kind == Key::kDouble ? "a number"
-                         : it->kind == Key::kInt  ? "an integer"
-                                                  : "true or false";
-      errors.push_back(fmt::format("line {}: {} must be {}", line, name, type));
+  std::map<const void*, std::string> set_by;  // field -> key that set it
+  for (const auto& [key, name] : PresentKeys(reader)) {
+    ReadKey(reader, *key, name, result.options);
+    const void* field =
+        key->kind == Key::kDouble ? static_cast<const void*>(&key->real(result.options))
+        : key->kind == Key::kInt  ? static_cast<const void*>(&key->integer(result.options))
+                                  : static_cast<const void*>(&key->flag(result.options));
+    const auto [it, inserted] = set_by.emplace(field, name);
+    if (!inserted) {
+      result.warnings.push_back(
+          fmt::format("line {}: {} and {} (line {}) are the same setting; {} is used",
+                      reader.LineOf(name), name, it->second, reader.LineOf(it->second), name));
+      it->second = name;
     }
   }
-  if (errors.empty()) {
-    try {
-      result.options.Check();
-    } catch (const OptionsError& e) {
-      errors.push_back(e.what());
+  reader.ThrowIfErrors(kFix);
+  try {
+    result.options.Check();
+  } catch (const OptionsError&) {
+    ReportInvalidValues(reader, defaults);
+    if (!reader.HasErrors()) throw;  // defaults alone invalid: not the file's fault
+  }
+  reader.ThrowIfErrors(kFix);
+
+  std::map<std::string, int> seen;
+  for (const SettingsReader::Entry& entry : reader.entries()) {
+    if (++seen[entry.key] == 2) {
+      result.warnings.push_back(fmt::format(
+          "line {}: {} is given more than once; the last value is used", entry.line, entry.key));
     }
   }
-  if (!errors.empty()) {
-    std::string all;
-    for (const auto& e : errors) all += (all.empty() ? "" : "; ") + e;
-    throw InputError(path.string(), 0, "invalid settings: " + all,
-                     "fix the listed keys (see docs/tracking.md for the key list)");
+  // The distortion of an ORB-SLAM3 PinHole pair that is rectified on load is used.
+  const bool raw_pinhole_pair =
+      result.camera && result.camera->rectifier && result.camera->layout == "ORB-SLAM3";
+  auto used_distortion = [&](const std::string& key) {
+    return raw_pinhole_pair && (key.rfind("Camera1.", 0) == 0 || key.rfind("Camera2.", 0) == 0);
+  };
+  std::map<std::string, bool> listed;
+  for (const SettingsReader::Entry& entry : reader.entries()) {
+    if (listed[entry.key]) continue;
+    listed[entry.key] = true;
+    if (IsNotApplicable(entry.key) && !used_distortion(entry.key)) {
+      result.ignored.push_back(entry.key);
+    } else if (!entry.used) {
+      result.warnings.push_back(
+          fmt::format("line {}: unknown key {} ignored", entry.line, entry.key));
+    }
+  }
+  if (camera && !(result.camera && result.camera->rectifier)) {
+    ChooseCamera(*camera, result.camera, false, path, &result.warnings);
   }
   return result;
 }
 
-std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamera& camera) {
+std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamera& camera,
+                                bool calibration_from_settings, const StereoRectifier* rectifier) {
   std::ostringstream out;
-  out << "%YAML:1.0\n# planeloc effective tracker settings (read back with --config)\n";
-  out << fmt::format("Camera.fx: {}\nCamera.fy: {}\nCamera.cx: {}\nCamera.cy: {}\n", camera.fx,
-                     camera.fy, camera.cx, camera.cy);
-  out << fmt::format("Camera.bf: {}\n", camera.BaselineTimesFx());
+  out << "%YAML:1.0\n"
+         "# planeloc effective tracker settings (OpenCV FileStorage YAML); read back with\n"
+         "# `planeloc run --config`.\n";
+  if (rectifier) {
+    out << "# Raw stereo images, rectified on load (ORB-SLAM2 layout: LEFT/RIGHT K, D, R, P).\n";
+    out << fmt::format("Camera.fx: {}\nCamera.fy: {}\nCamera.cx: {}\nCamera.cy: {}\n", camera.fx,
+                       camera.fy, camera.cx, camera.cy);
+    out << fmt::format("Camera.bf: {}\n", camera.BaselineTimesFx());
+    WriteRawSide(out, "LEFT", rectifier->left(), rectifier->left_r(), rectifier->left_p(),
+                 rectifier->size());
+    WriteRawSide(out, "RIGHT", rectifier->right(), rectifier->right_r(), rectifier->right_p(),
+                 rectifier->size());
+  } else {
+    out << "File.version: \"1.0\"\nCamera.type: \"Rectified\"\n";
+    out << fmt::format("Camera1.fx: {}\nCamera1.fy: {}\nCamera1.cx: {}\nCamera1.cy: {}\n",
+                       camera.fx, camera.fy, camera.cx, camera.cy);
+    out << fmt::format("Stereo.b: {}\n", camera.baseline);
+  }
+  out << fmt::format("Camera.width: {}\nCamera.height: {}\n", camera.width, camera.height);
+  out << fmt::format("System.calibrationFromSettings: {}\n", calibration_from_settings ? 1 : 0);
   TrackerOptions copy = options;
   for (const Key& key : Keys()) {
     switch (key.kind) {
@@ -278,8 +318,8 @@ std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamer
       case Key::kInt:
         out << fmt::format("{}: {}\n", key.name, key.integer(copy));
         break;
-      case Key::kBool:
-        out << fmt::format("{}: {}\n", key.name, key.flag(copy) ? "true" : "false");
+      case Key::kBool:  // 0/1: cv::FileStorage reads true/false as strings
+        out << fmt::format("{}: {}\n", key.name, key.flag(copy) ? 1 : 0);
         break;
     }
   }
@@ -287,11 +327,12 @@ std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamer
 }
 
 void WriteTrackerSettings(const std::filesystem::path& path, const TrackerOptions& options,
-                          const StereoCamera& camera) {
+                          const StereoCamera& camera, bool calibration_from_settings,
+                          const StereoRectifier* rectifier) {
   std::ofstream out(path);
   CheckInput(out.good(), path.string(), 0, "cannot write the effective settings",
              "check that the output folder is writable");
-  out << TrackerSettingsYaml(options, camera);
+  out << TrackerSettingsYaml(options, camera, calibration_from_settings, rectifier);
 }
 
 }  // namespace planeloc

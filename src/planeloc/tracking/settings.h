@@ -1,11 +1,12 @@
 // Options of the stereo tracker and their settings file.
 //
-// A settings file is an ORB-SLAM2 KITTI settings YAML (`%YAML:1.0` header, keys `Camera.fx`,
-// `ThDepth`, `ORBextractor.nFeatures`, ...) optionally extended with planeloc's own keys
-// (`Tracking.*`, `LocalBA.*`, `Stereo.*`). Every key is optional: built-in defaults apply.
-// Camera intrinsics always come from the sequence's calibration; `Camera.*` values in the file
-// are compared against it and a mismatch is warned about (a settings file of another KITTI
-// sequence group must not silently change the geometry).
+// A settings file is OpenCV FileStorage YAML, as ORB-SLAM2 and ORB-SLAM3 read it (`%YAML:1.0`
+// header, `key:value`, quoted strings, `!!opencv-matrix`): either ORB-SLAM layout (see
+// settings_camera.h for the camera keys) and planeloc's own keys (`Tracking.*`, `LocalBA.*`,
+// `Stereo.*`, `Planes.*`, ...). Every key is optional: built-in defaults apply. Keys that do not
+// apply to planeloc (viewer, IMU, distortion of rectified images, ...) are listed as ignored;
+// unknown keys are warnings; mistyped or invalid values are one InputError naming the file, the
+// line, the key, the value and the expected form. The full key list is in docs/tracking.md.
 #pragma once
 
 #include <filesystem>
@@ -20,6 +21,7 @@
 #include "planeloc/optim/window_ba.h"
 #include "planeloc/tracking/map_lock.h"
 #include "planeloc/tracking/plane_association.h"
+#include "planeloc/tracking/settings_camera.h"
 
 namespace planeloc {
 
@@ -102,18 +104,32 @@ struct TrackerOptions {
 
 struct SettingsFile {
   TrackerOptions options;
-  std::vector<std::string> warnings;  // unknown keys, camera mismatches
+  // The stereo calibration in the file (either layout), if any; see ChooseCamera.
+  std::optional<SettingsCamera> camera;
+  // System.calibrationFromSettings: use `camera` instead of the sequence's calibration.
+  bool calibration_from_settings = false;
+  std::vector<std::string> ignored;   // keys accepted but not applicable, each once, file order
+  std::vector<std::string> warnings;  // unknown keys (with line), camera mismatches, ...
 };
 
-// Reads a settings YAML on top of `defaults`. Throws InputError (file and key) listing every
-// mistyped or invalid key together. `camera` is the sequence's calibration, used to check the
-// file's `Camera.*` values (warnings only).
+// Reads a settings file on top of `defaults`. Throws InputError (file, line, key, value and
+// expected form) listing every mistyped or invalid key together, and for input planeloc cannot
+// track (unrectified or fisheye stereo, see settings_camera.h). When `camera` (the sequence's
+// calibration) is given, the file's calibration is compared with it (warnings only).
 SettingsFile LoadTrackerSettings(const std::filesystem::path& path, const TrackerOptions& defaults,
                                  const std::optional<StereoCamera>& camera = std::nullopt);
 
-// The effective configuration as a settings YAML that LoadTrackerSettings reads back.
-std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamera& camera);
+// The effective configuration as a settings file that LoadTrackerSettings (and cv::FileStorage)
+// reads back to the same values: ORB-SLAM3 v1.0 layout for the camera (Camera.type "Rectified",
+// Camera1.*, Stereo.b, Camera.width/height), every planeloc key, and
+// System.calibrationFromSettings. With a `rectifier` (raw images rectified on load) the camera is
+// written in ORB-SLAM2's layout with LEFT/RIGHT K, D, R, P instead, so that a run with the
+// written file rectifies the same way.
+std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamera& camera,
+                                bool calibration_from_settings = false,
+                                const StereoRectifier* rectifier = nullptr);
 void WriteTrackerSettings(const std::filesystem::path& path, const TrackerOptions& options,
-                          const StereoCamera& camera);
+                          const StereoCamera& camera, bool calibration_from_settings = false,
+                          const StereoRectifier* rectifier = nullptr);
 
 }  // namespace planeloc
