@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <limits>
 
@@ -48,11 +49,19 @@ void WriteText(const std::filesystem::path& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
+// SIZE 4, TYPE F, COUNT 1 for each of the (space-separated) fields.
 std::string AsciiPcd(const std::string& fields, const std::string& data, int n) {
   const std::string count = std::to_string(n);
-  return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n" +
-         "WIDTH " + count + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + count +
-         "\nDATA ascii\n" + data;
+  std::string sizes, types, counts;
+  for (std::size_t k = 0;
+       k <= static_cast<std::size_t>(std::count(fields.begin(), fields.end(), ' ')); ++k) {
+    sizes += " 4";
+    types += " F";
+    counts += " 1";
+  }
+  return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE" + sizes + "\nTYPE" + types +
+         "\nCOUNT" + counts + "\n" + "WIDTH " + count +
+         "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + count + "\nDATA ascii\n" + data;
 }
 
 TEST(PointCloudTest, ReadsAsciiPcd) {
@@ -63,17 +72,19 @@ TEST(PointCloudTest, ReadsAsciiPcd) {
   EXPECT_DOUBLE_EQ(cloud.points[1].z(), 6.0);
 }
 
-TEST(PointCloudTest, RejectsUnknownPcdFieldNamingFileAndLine) {
+TEST(PointCloudTest, IgnoresUnknownPcdFieldsButNeedsXyz) {
   TempDir dir;
+  WriteText(dir.path() / "label.pcd", AsciiPcd("x y z label", "1 2 3 7\n", 1));
+  EXPECT_EQ(ReadPointCloud(dir.path() / "label.pcd").size(), 1u);
   const auto path = dir.path() / "u.pcd";
-  WriteText(path, AsciiPcd("x y label", "1 2 3\n", 1));
+  WriteText(path, AsciiPcd("u v w", "1 2 3\n", 1));
   try {
     ReadPointCloud(path);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.path(), path.string());
     EXPECT_EQ(e.line(), 3);
-    EXPECT_NE(e.problem().find("label"), std::string::npos);
+    EXPECT_NE(e.problem().find("x, y and z"), std::string::npos) << e.problem();
   }
 }
 
