@@ -3,8 +3,8 @@
 // same scan voxelized as `map build` writes it; and a large binary .pcd (tens of millions of
 // points) read with the voxel filter in bounded memory. Results in docs/bench-map.md.
 //   build/bin/map_density_bench --benchmark_counters_tabular=true
-//   PLANELOC_BENCH_LARGE_POINTS=20000000 build/bin/map_density_bench \
-//     --benchmark_filter=LargePcd   # alone, so that max_rss_mb is this benchmark's peak
+//   build/bin/map_density_bench --benchmark_filter=LargePcd  (alone, so that max_rss_mb is this
+//   benchmark's peak; PLANELOC_BENCH_LARGE_POINTS sets the size, default 20 000 000)
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 

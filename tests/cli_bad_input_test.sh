@@ -106,7 +106,7 @@ printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty floa
 printf 'property float z\nend_header\n1 2 3\n4 5 6\n' >>"$work/short.ply"
 expect_error "map planes ply vertex count beyond the data" "short.ply:3" -- \
   "$planeloc" map planes --map "$work/short.ply" --out "$work/planes.json"
-expect_error "map planes negative voxel" "voxel" -- \
+expect_error "map planes non-finite voxel" "voxel" -- \
   "$planeloc" map planes --map "$work/f8.pcd" --out "$work/planes.json" --voxel nan
 expect_error "map build missing sequence" "$work/noseq" -- \
   "$planeloc" map build --sequence "$work/noseq" --poses "$work/gt.txt" --out "$work/m.pcd"

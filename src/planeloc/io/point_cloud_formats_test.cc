@@ -168,7 +168,8 @@ TEST(PointCloudFormatsTest, VoxelFilterWhileReading) {
   PointCloudReadOptions options;
   options.voxel_size = 1.0;
   const PointCloud cloud = ReadPointCloud(dir.path() / "v.pcd", options);
-  // Voxels (-1,0,0), (0,0,0) with two points, (5,0,0); sorted by z, y, x.
+  // Voxels (-1,0,0), (0,0,0) with two points, (5,0,0); Z-order from the lowest voxel (-1,0,0):
+  // x offsets 0, 1, 6.
   ASSERT_EQ(cloud.size(), 3u);
   EXPECT_EQ(cloud.source_points, 4u);
   EXPECT_TRUE(cloud.points[0].isApprox(Eigen::Vector3d(-0.2, 0.0, 0.0)));

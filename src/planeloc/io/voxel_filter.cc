@@ -1,13 +1,29 @@
 #include "planeloc/io/voxel_filter.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <tuple>
 
 #include "planeloc/util/error.h"
 
 namespace planeloc {
+namespace {
+
+// Spreads the low 21 bits of x so that there are two zero bits between consecutive bits.
+std::uint64_t SpreadBits(std::uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+
+}  // namespace
 
 VoxelAccumulator::VoxelAccumulator(double voxel_size) : voxel_size_(voxel_size) {
   if (!(voxel_size >= 0.0) || !std::isfinite(voxel_size)) {
@@ -51,13 +67,30 @@ PointCloud VoxelAccumulator::Finish() {
     raw_ = PointCloud();
     if (!all_colored_) cloud.colors.clear();
   } else {
-    std::vector<std::pair<Key, Sum>> sorted(voxels_.begin(), voxels_.end());
+    // Z-order (Morton) of the voxel coordinates, so that neighbouring voxels are close in memory
+    // (tensor voting then needs no sorted copy); coordinates beyond 2^21 voxels from the lowest
+    // only lose locality, and ties are broken by the coordinates.
+    std::vector<std::tuple<std::uint64_t, Key, Sum>> sorted;
+    sorted.reserve(voxels_.size());
+    Key lo{INT64_MAX, INT64_MAX, INT64_MAX};
+    for (const auto& [key, sum] : voxels_) {
+      lo = {std::min(lo.x, key.x), std::min(lo.y, key.y), std::min(lo.z, key.z)};
+    }
+    for (const auto& [key, sum] : voxels_) {
+      const std::uint64_t morton = SpreadBits(static_cast<std::uint64_t>(key.x - lo.x)) |
+                                   SpreadBits(static_cast<std::uint64_t>(key.y - lo.y)) << 1 |
+                                   SpreadBits(static_cast<std::uint64_t>(key.z - lo.z)) << 2;
+      sorted.emplace_back(morton, key, sum);
+    }
     voxels_ = {};
     std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) {
-      return std::tie(a.first.z, a.first.y, a.first.x) < std::tie(b.first.z, b.first.y, b.first.x);
+      const Key& ka = std::get<1>(a);
+      const Key& kb = std::get<1>(b);
+      return std::tie(std::get<0>(a), ka.z, ka.y, ka.x) <
+             std::tie(std::get<0>(b), kb.z, kb.y, kb.x);
     });
     cloud.points.reserve(sorted.size());
-    for (const auto& [key, sum] : sorted) {
+    for (const auto& [morton, key, sum] : sorted) {
       cloud.points.push_back(sum.point / sum.count);
       if (all_colored_) cloud.colors.push_back((sum.color / sum.count).cast<double>());
     }

@@ -17,7 +17,8 @@ namespace planeloc {
 // Voxels are cubes of side `voxel_size` (metres) aligned with the frame's origin: voxel
 // floor(p / voxel_size). Each occupied voxel gives the centroid of its points (and the mean
 // colour). Filtering twice with the same size is the identity (centroids stay in their voxel), and
-// the output is sorted by voxel coordinates, so it does not depend on the input order.
+// the output is sorted along a Z-order curve of the voxel coordinates, so it does not depend on
+// the input order and neighbouring voxels are close in memory.
 // voxel_size == 0 keeps every point in input order.
 class VoxelAccumulator {
  public:

@@ -1,5 +1,6 @@
 #include "planeloc/map/map_planes.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -61,9 +62,9 @@ MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& opti
     output.extraction_seconds = SecondsSince(start);
   } catch (const std::bad_alloc&) {
     throw InputError("", 0,
-                     "map too large for memory (" + std::to_string(map.size()) + " points, voxel " +
-                         std::to_string(output.voxel_size) + " m)",
-                     "use --voxel with a larger voxel (or crop the map)");
+                     fmt::format("map too large for memory ({} points, voxel {} m)", map.size(),
+                                 output.voxel_size),
+                     "use --voxel with a larger voxel, e.g. --voxel 0.2 (or crop the map)");
   }
   nlohmann::json& stats = output.extraction.plane_map.stats;
   stats["options"] = MapOptionsToJson(options);

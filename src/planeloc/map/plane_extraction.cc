@@ -283,6 +283,7 @@ bool DetectUp(const std::vector<Eigen::Vector3d>& points, const Neighborhoods& h
     }
   }
   up = above >= below ? axis : Eigen::Vector3d(-axis);
+  up += Eigen::Vector3d::Zero();  // -0 + 0 = +0: no "-0" components in logs and planes.json
   return true;
 }
 

@@ -88,7 +88,8 @@ SaliencyClass ClassifySaliency(double l1, double l2, double l3);
 // Runs the ball pass and `stick_passes` stick passes on `points` (any frame, metres).
 TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
                                    const TensorVotingOptions& options);
-// Same, with neighbourhoods already found (radius must equal options.radius()).
+// Same, with neighbourhoods already found (radius must equal options.radius(), capped at
+// options.max_neighbors for the same result).
 TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
                                    const TensorVotingOptions& options, Neighborhoods neighborhoods);
 
