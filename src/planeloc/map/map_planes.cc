@@ -68,7 +68,8 @@ MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& opti
   }
   nlohmann::json& stats = output.extraction.plane_map.stats;
   stats["options"] = MapOptionsToJson(options);
-  stats["input_points"] = map.size();
+  // Points of the file when the map was voxel-filtered while reading (ReadPointCloud).
+  stats["input_points"] = map.source_points > 0 ? map.source_points : map.size();
   stats["voxel_size"] = output.voxel_size;
   if (output.extraction.plane_map.planes.empty()) {
     spdlog::warn("map planes: no planar structure found in {} points; writing an empty plane map",
