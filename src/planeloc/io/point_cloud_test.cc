@@ -76,6 +76,18 @@ TEST(PointCloudTest, IgnoresUnknownPcdFieldsButNeedsXyz) {
   TempDir dir;
   WriteText(dir.path() / "label.pcd", AsciiPcd("x y z label", "1 2 3 7\n", 1));
   EXPECT_EQ(ReadPointCloud(dir.path() / "label.pcd").size(), 1u);
+  // As FAST-LIO and PCL's ascii writer give them (rgb: the packed colour printed as a float).
+  WriteText(dir.path() / "fastlio.pcd",
+            AsciiPcd("x y z intensity normal_x normal_y normal_z curvature",
+                     "1 2 3 17 0 0 1 0.01\n-4 5.5 6 3 1 0 0 0.2\n", 2));
+  const PointCloud fastlio = ReadPointCloud(dir.path() / "fastlio.pcd");
+  ASSERT_EQ(fastlio.size(), 2u);
+  EXPECT_EQ(fastlio.points[1], Eigen::Vector3d(-4, 5.5, 6));
+  WriteText(dir.path() / "rgb.pcd", AsciiPcd("x y z rgb", "1 2 3 4.2108e+06\n", 1));
+  const PointCloud rgb = ReadPointCloud(dir.path() / "rgb.pcd");
+  ASSERT_EQ(rgb.size(), 1u);
+  EXPECT_EQ(rgb.points[0], Eigen::Vector3d(1, 2, 3));
+  EXPECT_TRUE(rgb.has_colors());
   const auto path = dir.path() / "u.pcd";
   WriteText(path, AsciiPcd("u v w", "1 2 3\n", 1));
   try {
