@@ -3,6 +3,7 @@
 // files and flags (see docs/map.md).
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -34,6 +35,8 @@ struct PlanesArgs {
   std::string options_yaml;
   std::string gt;
   double sigma = TensorVotingOptions().sigma;
+  double voxel = MapPlanesOptions().voxel_size;
+  std::string frame = "map";
   std::vector<double> up;
 };
 
@@ -46,24 +49,52 @@ int RunBuild(const BuildArgs& args) {
   return 0;
 }
 
-int RunPlanes(const PlanesArgs& args, bool sigma_given) {
+int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
   MapPlanesOptions options;
+  // Without --up (or `up` in the options file) the up axis is detected from the map.
+  options.plane_extraction.detect_up = true;
   if (!args.options_yaml.empty()) LoadMapPlanesOptions(args.options_yaml, options);
-  if (sigma_given) options.tensor_voting.sigma = args.sigma;  // the flag wins over the file
-  if (args.up.size() == 3) options.plane_extraction.up = {args.up[0], args.up[1], args.up[2]};
-  const PointCloud map = ReadPointCloud(args.map);
-  spdlog::info("map planes: {} points from {}", map.size(), args.map);
+  if (sigma_given) options.tensor_voting.sigma = args.sigma;  // the flags win over the file
+  if (voxel_given) options.voxel_size = args.voxel;
+  if (args.up.size() == 3) {
+    options.plane_extraction.up = {args.up[0], args.up[1], args.up[2]};
+    options.plane_extraction.detect_up = false;
+  }
+  options.Check();
+  // Voxel-filtered while reading: memory follows the voxels, not the points of the file.
+  PointCloudReadOptions read_options;
+  read_options.voxel_size = options.EffectiveVoxelSize();
+  const PointCloud map = ReadPointCloud(args.map, read_options);
+  spdlog::info(
+      "map planes: {} points in {}{}, {} after the {} m voxel filter", map.source_points, args.map,
+      map.dropped_invalid > 0
+          ? fmt::format(" ({} NaN points of the organized cloud dropped)", map.dropped_invalid)
+          : "",
+      map.size(), read_options.voxel_size);
   MapPlanesOutput output = RunMapPlanes(map, options);
-  const PlaneMap& planes = output.extraction.plane_map;
+  PlaneMap& planes = output.extraction.plane_map;
+  const Eigen::Vector3d& up = output.extraction.up;
+  spdlog::info("map planes: frame '{}' (the map's), up = [{:.3f}, {:.3f}, {:.3f}] {}", args.frame,
+               up.x(), up.y(), up.z(),
+               output.extraction.up_detected
+                   ? "detected from the dominant horizontal plane (give --up to override)"
+               : options.plane_extraction.detect_up ? "(default: no plane to detect it from)"
+                                                    : "(given)");
+  planes.frame.name = args.frame;
+  planes.frame.map_file = std::filesystem::absolute(args.map).lexically_normal().string();
+  planes.frame.up = up;
+  planes.frame.up_source = output.extraction.up_detected ? "detected" : "given";
   spdlog::info("map planes: tensor voting {:.2f} s, plane extraction {:.2f} s, {} planes",
                output.voting_seconds, output.extraction_seconds, planes.planes.size());
   if (!args.gt.empty()) {
     // Ground truth (the simulator's world/planes_gt.json): issue 4's acceptance numbers, logged
     // and stored in the stats of planes.json.
     PlaneMapEvalOptions eval_options;
-    eval_options.point_area = 0.01;  // `map build`'s default 0.10 m voxels
+    // One point a voxel face: `map build`'s default 0.10 m voxels, or the voxel filter's.
+    eval_options.point_area =
+        output.voxel_size > 0.0 ? output.voxel_size * output.voxel_size : 0.01;
     const PlaneMapEvaluation evaluation = EvaluatePlaneMap(
-        map.points, output.extraction.point_plane, planes, ReadPlaneMap(args.gt), eval_options);
+        output.points, output.extraction.point_plane, planes, ReadPlaneMap(args.gt), eval_options);
     for (const GtPlaneMatch& m : evaluation.checked) {
       if (!m.good) {
         spdlog::warn(
@@ -79,12 +110,12 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given) {
         args.gt, evaluation.good, evaluation.checked.size(), eval_options.min_visible_area,
         eval_options.max_angle_deg, eval_options.max_offset, 100.0 * evaluation.labelled_on_gt,
         evaluation.labelled_points, eval_options.labelled_distance);
-    output.extraction.plane_map.stats["gt_evaluation"] = evaluation.ToJson();
+    planes.stats["gt_evaluation"] = evaluation.ToJson();
   }
   WritePlaneMap(args.out, planes);
   if (!args.ply.empty()) {
     PointCloud labelled;
-    labelled.points = map.points;
+    labelled.points = output.points;
     labelled.colors = PlaneColors(output);
     WritePointCloud(args.ply, labelled);
   }
@@ -122,15 +153,25 @@ CommandRunner SetupMap(CLI::App& app) {
   planes->add_option("--options", planes_args->options_yaml, "YAML options (see docs/map.md)");
   planes
       ->add_option("--up", planes_args->up,
-                   "Up direction of the map frame (default 0 -1 0: KITTI camera world)")
+                   "Up direction of the map frame, e.g. 0 0 1 (Velodyne, LOAM, LIO-SAM) or 0 -1 0 "
+                   "(KITTI camera world); default: detected from the dominant horizontal plane")
       ->expected(3);
+  auto* voxel = planes->add_option(
+      "--voxel", planes_args->voxel,
+      "Voxel filter before tensor voting, metres (-1 = sigma / 5 = 0.1 m by default; 0 = off)");
+  voxel->capture_default_str();
+  planes
+      ->add_option("--frame", planes_args->frame,
+                   "Name of the map's frame, recorded in planes.json (`run` needs its initial "
+                   "pose in this frame)")
+      ->capture_default_str();
   planes->add_option("--gt", planes_args->gt,
                      "Ground-truth planes (a simulated world's world/planes_gt.json): log and "
                      "store the accuracy of the extracted planes");
 
-  return [build, planes, build_args, planes_args, sigma]() {
+  return [build, planes, build_args, planes_args, sigma, voxel]() {
     if (build->parsed()) return RunBuild(*build_args);
-    if (planes->parsed()) return RunPlanes(*planes_args, sigma->count() > 0);
+    if (planes->parsed()) return RunPlanes(*planes_args, sigma->count() > 0, voxel->count() > 0);
     return 2;
   };
 }

@@ -24,6 +24,22 @@ expect_error() {
   fi
 }
 
+# expect_ok NAME -- command...: exit code 0.
+expect_ok() {
+  local name="$1"
+  shift 2
+  local output code
+  output="$("$@" 2>&1)"
+  code=$?
+  if [ "$code" -eq 0 ]; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL $name: exit $code, expected 0:"
+    echo "$output" | tail -5
+  fi
+}
+
 # A valid 3-pose KITTI trajectory and broken variants.
 printf '1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n1 0 0 2 0 1 0 0 0 0 1 0\n' >"$work/gt.txt"
 printf '1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1\n1 0 0 2 0 1 0 0 0 0 1 0\n' >"$work/eleven.txt"
@@ -77,6 +93,36 @@ expect_error "map planes empty map" "empty.xyz" -- \
 printf '1 2 3\nnan 1 2\n' >"$work/nan.xyz"
 expect_error "map planes NaN point" "nan.xyz" -- \
   "$planeloc" map planes --map "$work/nan.xyz" --out "$work/planes.json"
+# Point-cloud headers that disagree with their data (issue 17): exit 2 naming the file.
+pcd_header() {  # FIELDS SIZE TYPE COUNT WIDTH HEIGHT POINTS DATA
+  printf '# .PCD v0.7\nVERSION 0.7\nFIELDS %s\nSIZE %s\nTYPE %s\nCOUNT %s\nWIDTH %s\nHEIGHT %s\n' \
+    "$1" "$2" "$3" "$4" "$5" "$6"
+  printf 'VIEWPOINT 0 0 0 1 0 0 0\nPOINTS %s\nDATA %s\n' "$7" "$8"
+}
+{ pcd_header "x y z" "8 8 8" "F F F" "1 1 1" 3 1 3 binary; head -c 72 /dev/zero; } >"$work/f8.pcd"
+expect_ok "map planes double-precision pcd" -- \
+  "$planeloc" map planes --map "$work/f8.pcd" --out "$work/planes_f8.json"
+{ pcd_header "x y z" "8 8 8" "F F F" "1 1 1" 4 1 4 binary; head -c 72 /dev/zero; } >"$work/short.pcd"
+expect_error "map planes pcd POINTS beyond the data" "short.pcd" -- \
+  "$planeloc" map planes --map "$work/short.pcd" --out "$work/planes.json"
+{ pcd_header "x y z" "4 4 4" "F F F" "1 1 1" 3 2 3 ascii; printf '1 2 3\n4 5 6\n7 8 9\n'; } \
+  >"$work/organized.pcd"
+expect_error "map planes pcd WIDTH x HEIGHT vs POINTS" "organized.pcd:10" -- \
+  "$planeloc" map planes --map "$work/organized.pcd" --out "$work/planes.json"
+{ pcd_header "x y z intensity" "4 4 4 4" "F F F F" "1 1 1" 1 1 1 ascii; printf '1 2 3 4\n'; } \
+  >"$work/count.pcd"
+expect_error "map planes pcd COUNT vs FIELDS" "count.pcd:6" -- \
+  "$planeloc" map planes --map "$work/count.pcd" --out "$work/planes.json"
+{ pcd_header "x y z" "4 4 2" "F F F" "1 1 1" 1 1 1 ascii; printf '1 2 3\n'; } >"$work/size.pcd"
+expect_error "map planes pcd SIZE vs TYPE" "size.pcd:4" -- \
+  "$planeloc" map planes --map "$work/size.pcd" --out "$work/planes.json"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n' \
+  >"$work/short.ply"
+printf 'property float z\nend_header\n1 2 3\n4 5 6\n' >>"$work/short.ply"
+expect_error "map planes ply vertex count beyond the data" "short.ply:3" -- \
+  "$planeloc" map planes --map "$work/short.ply" --out "$work/planes.json"
+expect_error "map planes non-finite voxel" "voxel" -- \
+  "$planeloc" map planes --map "$work/f8.pcd" --out "$work/planes.json" --voxel nan
 expect_error "map build missing sequence" "$work/noseq" -- \
   "$planeloc" map build --sequence "$work/noseq" --poses "$work/gt.txt" --out "$work/m.pcd"
 

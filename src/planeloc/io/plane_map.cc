@@ -123,6 +123,28 @@ int LineOfByte(const std::string& text, std::size_t byte) {
 
 json VectorJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+PlaneMapFrame ReadFrame(const std::string& path, const json& object) {
+  const PlaneReader reader(path, object, "frame");
+  if (!object.is_object()) reader.Fail("is not a JSON object");
+  PlaneMapFrame frame;
+  for (const char* field : {"name", "map", "up_source"}) {
+    if (reader.Has(field) && !reader[field].is_string()) {
+      reader.Fail(fmt::format("`{}` is not a string", field));
+    }
+  }
+  if (reader.Has("name")) frame.name = reader["name"].get<std::string>();
+  if (reader.Has("map")) frame.map_file = reader["map"].get<std::string>();
+  if (reader.Has("up_source")) frame.up_source = reader["up_source"].get<std::string>();
+  if (reader.Has("up")) {
+    frame.up = reader.Vector(reader["up"], "up");
+    if (std::abs(frame.up.norm() - 1.0) > kNormalTolerance) {
+      reader.Fail(fmt::format("|up| = {:.6g}, expected 1", frame.up.norm()));
+    }
+  }
+  if (frame.name.empty()) frame.name = "map";  // a frame object without a name is still known
+  return frame;
+}
+
 }  // namespace
 
 PlaneMap ReadPlaneMap(const std::filesystem::path& path) {
@@ -156,6 +178,9 @@ PlaneMap ReadPlaneMap(const std::filesystem::path& path) {
                kSchemaFix);
     map.stats = document["stats"];
   }
+  if (document.contains("frame") && !document["frame"].is_null()) {
+    map.frame = ReadFrame(path.string(), document["frame"]);
+  }
   return map;
 }
 
@@ -174,7 +199,13 @@ void WritePlaneMap(const std::filesystem::path& path, const PlaneMap& map) {
                       {"area", plane.area},
                       {"polygon", polygon}});
   }
-  const json document = {{"planes", planes}, {"stats", map.stats}};
+  json document = {{"planes", planes}, {"stats", map.stats}};
+  if (map.frame.known()) {
+    document["frame"] = {{"name", map.frame.name},
+                         {"map", map.frame.map_file},
+                         {"up", VectorJson(map.frame.up)},
+                         {"up_source", map.frame.up_source}};
+  }
   std::ofstream stream(path);
   CheckInput(stream.good(), path.string(), 0, "cannot open for writing",
              "check that the folder exists and is writable");

@@ -1,8 +1,10 @@
 // The plane map: planes extracted from a LiDAR map, as stored in planes.json:
 //   {"planes":[{"id":int,"normal":[nx,ny,nz],"d":float,"centroid":[..],"inliers":int,"rms":float,
-//               "area":float,"polygon":[[x,y,z],...]}], "stats":{...}}
-// with n . x + d = 0, |n| = 1, all in map coordinates. The simulator's planes_gt.json uses the
-// same reader ("kind" is optional there, missing fields default to zero).
+//               "area":float,"polygon":[[x,y,z],...]}], "stats":{...},
+//    "frame":{"name":str,"map":str,"up":[ux,uy,uz],"up_source":"given"|"detected"}}
+// with n . x + d = 0, |n| = 1, all in map coordinates: the frame of the point cloud the planes were
+// extracted from. "frame" is optional (files written before issue 17 have none). The simulator's
+// planes_gt.json uses the same reader ("kind" is optional there, missing fields default to zero).
 #pragma once
 
 #include <filesystem>
@@ -25,9 +27,21 @@ struct MapPlane {
   std::vector<Eigen::Vector3d> polygon;  // outline in map coordinates, on the plane
 };
 
+// The frame the planes are expressed in: the frame of the LiDAR map they were extracted from
+// (the user's; `planeloc run` needs its initial pose in the same frame).
+struct PlaneMapFrame {
+  std::string name;      // the user's name for the map frame ("map" by default); "" unknown
+  std::string map_file;  // the point cloud the planes were extracted from; "" unknown
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();  // unit "up" in the frame; zero when unknown
+  std::string up_source;  // "given" (--up / options) or "detected" (dominant horizontal plane)
+
+  bool known() const { return !name.empty(); }
+};
+
 struct PlaneMap {
   std::vector<MapPlane> planes;
   nlohmann::json stats = nlohmann::json::object();
+  PlaneMapFrame frame;  // not known() for files without "frame"
 };
 
 // Throws InputError naming the file (and the plane index) on a malformed document.

@@ -54,6 +54,26 @@ TEST(PlaneMap, RoundTripIsExact) {
     EXPECT_EQ(a.polygon, b.polygon);
   }
   EXPECT_EQ(copy.stats, map.stats);
+  EXPECT_FALSE(copy.frame.known());  // none written
+}
+
+TEST(PlaneMap, FrameRoundTripsAndIsOptional) {
+  TempDir dir;
+  PlaneMap map = ExampleMap();
+  map.frame.name = "lio_sam_map";
+  map.frame.map_file = "/data/GlobalMap.pcd";
+  map.frame.up = Eigen::Vector3d::UnitZ();
+  map.frame.up_source = "detected";
+  WritePlaneMap(dir.path() / "planes.json", map);
+  const PlaneMap copy = ReadPlaneMap(dir.path() / "planes.json");
+  ASSERT_TRUE(copy.frame.known());
+  EXPECT_EQ(copy.frame.name, "lio_sam_map");
+  EXPECT_EQ(copy.frame.map_file, "/data/GlobalMap.pcd");
+  EXPECT_EQ(copy.frame.up, Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(copy.frame.up_source, "detected");
+  // An old file (no "frame") still reads, with the frame unknown.
+  WriteText(dir.path() / "old.json", R"({"planes":[{"normal":[0,0,1],"d":-2.5}],"stats":{}})");
+  EXPECT_FALSE(ReadPlaneMap(dir.path() / "old.json").frame.known());
 }
 
 TEST(PlaneMap, MissingOptionalFieldsDefault) {
@@ -112,6 +132,8 @@ TEST(PlaneMapBadInput, EachMalformedDocumentIsNamed) {
   ExpectBad(R"({"planes":[{"normal":[0,0,1],"d":1,"inliers":-3}]})", "negative");
   ExpectBad(R"({"planes":[{"normal":[0,0,1],"d":1,"polygon":[[0,0]]}]})", "polygon vertex");
   ExpectBad(R"({"surfaces":[]})", "no `planes` array");
+  ExpectBad(R"({"planes":[],"frame":{"name":"map","up":[0,0,2]}})", "frame: |up| = 2");
+  ExpectBad(R"({"planes":[],"frame":{"name":3}})", "frame: `name` is not a string");
   ExpectBad(R"([1,2])", "no `planes` array");
   EXPECT_EQ(ExpectBad("{\n\"planes\": [\n{\"normal\": [0,0,1],, \"d\": 1}\n]}", "invalid JSON"), 3);
 }

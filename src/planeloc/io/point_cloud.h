@@ -1,7 +1,10 @@
-// Point-cloud files (.pcd, .ply, .xyz) read and written through Open3D, with the checks Open3D
-// does not do: an empty cloud, NaN/Inf coordinates and .pcd fields we do not understand are
-// planeloc::InputError naming the file (Open3D would drop or ignore them silently, and a map that
-// silently lost points or misread a field yields a wrong plane map much later).
+// Point-cloud files (.pcd, .ply, .xyz) as LiDAR mapping tools write them. .pcd and .ply are read
+// by our own parsers (pcd_reader.h, ply_reader.h: every variant, float or double coordinates,
+// extra fields skipped, header checked against the data), .xyz through Open3D; everything is
+// written through Open3D. An empty cloud, NaN/Inf coordinates (except the NaN "no return" points
+// of an organized .pcd, which are dropped and counted) and a header that disagrees with the data
+// are planeloc::InputError naming the file: a map that silently lost points or misread a field
+// yields a wrong plane map much later.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,20 +18,27 @@ namespace planeloc {
 struct PointCloud {
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector3d> colors;  // RGB in [0, 1]; empty or one per point
+  // Reading statistics (0 for a cloud not read from a file):
+  std::size_t source_points = 0;    // valid points in the file, before any voxel filter
+  std::size_t dropped_invalid = 0;  // NaN points of an organized .pcd, dropped
 
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }
   bool has_colors() const { return !colors.empty() && colors.size() == points.size(); }
 };
 
-// Field names a .pcd may carry: x y z are required; normal_x/y/z, rgb, rgba, intensity and
-// curvature are accepted (only x y z and colours are kept).
-bool IsKnownPcdField(const std::string& name);
+struct PointCloudReadOptions {
+  // Metres; > 0 averages the points per voxel while reading (voxel_filter.h), so the memory
+  // follows the number of voxels, not of points. 0 keeps every point.
+  double voxel_size = 0.0;
+};
 
-// Reads .pcd (ascii, binary, binary_compressed), .ply or .xyz by extension. Throws InputError if
-// the file is missing, unreadable, has an unknown extension or .pcd field, holds no point, or holds
-// a non-finite coordinate (the message gives the first offending point index).
-PointCloud ReadPointCloud(const std::filesystem::path& path);
+// Reads .pcd (ascii, binary, binary_compressed), .ply (ascii, binary little/big endian) or .xyz by
+// extension. Throws InputError if the file is missing, unreadable, has an unknown extension, holds
+// no point, disagrees with its header or holds a non-finite coordinate (naming the first
+// offending point), and "map too large for memory" when the points do not fit in memory.
+PointCloud ReadPointCloud(const std::filesystem::path& path,
+                          const PointCloudReadOptions& options = {});
 
 // Writes by extension (.pcd binary, .ply binary, .xyz ascii). Throws InputError if the extension is
 // unknown or the file cannot be written.

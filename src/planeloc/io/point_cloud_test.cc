@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <limits>
 
@@ -48,11 +49,19 @@ void WriteText(const std::filesystem::path& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
+// SIZE 4, TYPE F, COUNT 1 for each of the (space-separated) fields.
 std::string AsciiPcd(const std::string& fields, const std::string& data, int n) {
   const std::string count = std::to_string(n);
-  return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n" +
-         "WIDTH " + count + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + count +
-         "\nDATA ascii\n" + data;
+  std::string sizes, types, counts;
+  for (std::size_t k = 0;
+       k <= static_cast<std::size_t>(std::count(fields.begin(), fields.end(), ' ')); ++k) {
+    sizes += " 4";
+    types += " F";
+    counts += " 1";
+  }
+  return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE" + sizes + "\nTYPE" + types +
+         "\nCOUNT" + counts + "\n" + "WIDTH " + count +
+         "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + count + "\nDATA ascii\n" + data;
 }
 
 TEST(PointCloudTest, ReadsAsciiPcd) {
@@ -63,17 +72,31 @@ TEST(PointCloudTest, ReadsAsciiPcd) {
   EXPECT_DOUBLE_EQ(cloud.points[1].z(), 6.0);
 }
 
-TEST(PointCloudTest, RejectsUnknownPcdFieldNamingFileAndLine) {
+TEST(PointCloudTest, IgnoresUnknownPcdFieldsButNeedsXyz) {
   TempDir dir;
+  WriteText(dir.path() / "label.pcd", AsciiPcd("x y z label", "1 2 3 7\n", 1));
+  EXPECT_EQ(ReadPointCloud(dir.path() / "label.pcd").size(), 1u);
+  // As FAST-LIO and PCL's ascii writer give them (rgb: the packed colour printed as a float).
+  WriteText(dir.path() / "fastlio.pcd",
+            AsciiPcd("x y z intensity normal_x normal_y normal_z curvature",
+                     "1 2 3 17 0 0 1 0.01\n-4 5.5 6 3 1 0 0 0.2\n", 2));
+  const PointCloud fastlio = ReadPointCloud(dir.path() / "fastlio.pcd");
+  ASSERT_EQ(fastlio.size(), 2u);
+  EXPECT_EQ(fastlio.points[1], Eigen::Vector3d(-4, 5.5, 6));
+  WriteText(dir.path() / "rgb.pcd", AsciiPcd("x y z rgb", "1 2 3 4.2108e+06\n", 1));
+  const PointCloud rgb = ReadPointCloud(dir.path() / "rgb.pcd");
+  ASSERT_EQ(rgb.size(), 1u);
+  EXPECT_EQ(rgb.points[0], Eigen::Vector3d(1, 2, 3));
+  EXPECT_TRUE(rgb.has_colors());
   const auto path = dir.path() / "u.pcd";
-  WriteText(path, AsciiPcd("x y label", "1 2 3\n", 1));
+  WriteText(path, AsciiPcd("u v w", "1 2 3\n", 1));
   try {
     ReadPointCloud(path);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.path(), path.string());
     EXPECT_EQ(e.line(), 3);
-    EXPECT_NE(e.problem().find("label"), std::string::npos);
+    EXPECT_NE(e.problem().find("x, y and z"), std::string::npos) << e.problem();
   }
 }
 

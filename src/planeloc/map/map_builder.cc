@@ -1,10 +1,10 @@
 #include "planeloc/map/map_builder.h"
 
-#include <open3d/geometry/PointCloud.h>
 #include <spdlog/spdlog.h>
 
 #include <string>
 
+#include "planeloc/io/voxel_filter.h"
 #include "planeloc/map/neighborhoods.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/progress.h"
@@ -25,9 +25,9 @@ void MapBuildOptions::Check() const {
 std::vector<Eigen::Vector3d> VoxelDownsample(const std::vector<Eigen::Vector3d>& points,
                                              double voxel_size) {
   if (voxel_size <= 0.0 || points.empty()) return points;
-  open3d::geometry::PointCloud cloud;
-  cloud.points_ = points;
-  return std::move(cloud.VoxelDownSample(voxel_size)->points_);
+  PointCloud cloud;
+  cloud.points = points;
+  return VoxelFilter(cloud, voxel_size).points;
 }
 
 MapAccumulator::MapAccumulator(MapBuildOptions options) : options_(std::move(options)) {

@@ -50,7 +50,10 @@ class MapAccumulator {
   std::size_t scans_ = 0;
 };
 
-// Voxel-grid downsampling (Open3D, centroid per voxel); returns the input when voxel_size <= 0.
+// Voxel-grid downsampling (io/voxel_filter.h: voxels aligned with the frame origin, centroid per
+// voxel), so that `map planes`' default filter at the same voxel size leaves a built map as it is
+// (Open3D's VoxelDownSample anchors the grid at the cloud's minimum, which moves from call to
+// call); returns the input when voxel_size <= 0.
 std::vector<Eigen::Vector3d> VoxelDownsample(const std::vector<Eigen::Vector3d>& points,
                                              double voxel_size);
 

@@ -52,6 +52,29 @@ TEST_P(KittiScanPlanesTest, FindsRoadBelowSensorAndFacades) {
   EXPECT_GE(large_vertical, 2);
 }
 
+// Issue 10/17: the raw scan as a LiDAR tool hands it over (no `map build` voxels, z up, nothing
+// told): `map planes` voxel-filters it, detects z as up, and labels the road ground.
+TEST_P(KittiScanPlanesTest, RawScanUpIsDetected) {
+  PLANELOC_SHARED_DATA_OR_SKIP(path, std::string("kitti00-velodyne/") + GetParam());
+  PointCloud map;
+  map.points = ReadVelodyneScan(path).points;
+  MapPlanesOptions options;  // default up (0, -1, 0) would be wrong here
+  options.plane_extraction.detect_up = true;
+  const MapPlanesOutput output = RunMapPlanes(map, options);
+  spdlog::info(
+      "{} raw: {} points -> {} after the {} m voxel filter, voting {:.2f} s, "
+      "extraction {:.2f} s",
+      GetParam(), map.size(), output.points.size(), output.voxel_size, output.voting_seconds,
+      output.extraction_seconds);
+  EXPECT_TRUE(output.extraction.up_detected);
+  EXPECT_EQ(output.extraction.up, Eigen::Vector3d::UnitZ());
+  const auto& planes = output.extraction.plane_map.planes;
+  ASSERT_FALSE(planes.empty());
+  EXPECT_EQ(planes[0].kind, "ground");        // the road, the largest plane
+  EXPECT_GT(planes[0].plane_in_map.d, 1.55);  // sensor height above the road, as above
+  EXPECT_LT(planes[0].plane_in_map.d, 1.95);
+}
+
 INSTANTIATE_TEST_SUITE_P(Kitti00, KittiScanPlanesTest,
                          ::testing::Values("000094.bin", "000095.bin", "000198.bin", "000199.bin"));
 

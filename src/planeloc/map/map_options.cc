@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <functional>
 #include <map>
 
@@ -35,16 +36,30 @@ Field VectorField(Eigen::Vector3d& value) {
           }};
 }
 
+// Giving `up` means the frame's up is known: it turns detection off (a later `detect_up: true`
+// in the same file turns it back on).
+Field UpField(PlaneExtractionOptions& options) {
+  Field field = VectorField(options.up);
+  auto read = field.read;
+  field.read = [read, &options](const YAML::Node& node) {
+    read(node);
+    options.detect_up = false;
+  };
+  return field;
+}
+
 FieldTable Fields(MapPlanesOptions& o) {
   auto& tv = o.tensor_voting;
   auto& pe = o.plane_extraction;
   auto& cl = pe.clustering;
   return {
+      {"voxel_size", MakeField(o.voxel_size)},
       {"tensor_voting.sigma", MakeField(tv.sigma)},
       {"tensor_voting.radius_factor", MakeField(tv.radius_factor)},
       {"tensor_voting.curvature_weight", MakeField(tv.curvature_weight)},
       {"tensor_voting.max_stick_angle_deg", MakeField(tv.max_stick_angle_deg)},
       {"tensor_voting.stick_passes", MakeField(tv.stick_passes)},
+      {"tensor_voting.max_neighbors", MakeField(tv.max_neighbors)},
       {"plane_extraction.min_stick_saliency", MakeField(pe.min_stick_saliency)},
       {"plane_extraction.growth_angle_deg", MakeField(pe.growth_angle_deg)},
       {"plane_extraction.growth_distance", MakeField(pe.growth_distance)},
@@ -56,7 +71,8 @@ FieldTable Fields(MapPlanesOptions& o) {
       {"plane_extraction.min_area", MakeField(pe.min_area)},
       {"plane_extraction.min_extent", MakeField(pe.min_extent)},
       {"plane_extraction.max_rms", MakeField(pe.max_rms)},
-      {"plane_extraction.up", VectorField(pe.up)},
+      {"plane_extraction.up", UpField(pe)},
+      {"plane_extraction.detect_up", MakeField(pe.detect_up)},
       {"plane_extraction.kind_angle_deg", MakeField(pe.kind_angle_deg)},
       {"plane_extraction.outline.cell_size", MakeField(pe.outline.cell_size)},
       {"plane_extraction.outline.closing_cells", MakeField(pe.outline.closing_cells)},
@@ -91,6 +107,12 @@ void Visit(const YAML::Node& node, const std::string& prefix, const FieldTable& 
 }
 
 }  // namespace
+
+void MapPlanesOptions::Check() const {
+  if (!std::isfinite(voxel_size)) throw OptionsError("MapPlanesOptions.voxel_size must be finite");
+  tensor_voting.Check();
+  plane_extraction.Check();
+}
 
 std::vector<std::string> LoadMapPlanesOptions(const std::filesystem::path& path,
                                               MapPlanesOptions& options) {

@@ -1,8 +1,10 @@
 // YAML options of `planeloc map planes` (--options FILE):
 //
+//   voxel_size:         -1   (metres; -1 = tensor_voting.sigma / 5, 0 = no voxel filter)
 //   tensor_voting:      {sigma: 0.5, radius_factor: 1.5, curvature_weight: 10,
-//                        max_stick_angle_deg: 45, stick_passes: 2}
+//                        max_stick_angle_deg: 45, stick_passes: 2, max_neighbors: 512}
 //   plane_extraction:   {min_stick_saliency: 0.5, growth_angle_deg: 15, ..., up: [0, -1, 0],
+//                        detect_up: false (giving `up` sets it false),
 //                        clustering: {max_clusters: 20, merge_angle_deg: 12, ...},
 //                        outline: {cell_size: 0.25, closing_cells: 1, simplify_cells: 1}}
 //
@@ -22,12 +24,18 @@
 namespace planeloc {
 
 struct MapPlanesOptions {
+  // Metres. The map is averaged per voxel of this side before tensor voting, so that a raw scan
+  // (thousands of points a square metre near the sensor) costs what a voxelized map of the same
+  // extent costs. < 0: tensor_voting.sigma / 5 (0.1 m by default, the `map build` voxel: a
+  // neighbourhood of radius 1.5 sigma then holds ~180 points on a plane); 0: no filter.
+  double voxel_size = -1.0;
   TensorVotingOptions tensor_voting;
   PlaneExtractionOptions plane_extraction;
-  void Check() const {
-    tensor_voting.Check();
-    plane_extraction.Check();
+
+  double EffectiveVoxelSize() const {
+    return voxel_size < 0.0 ? tensor_voting.sigma / 5.0 : voxel_size;
   }
+  void Check() const;  // throws OptionsError naming the field
 };
 
 // Overwrites the fields present in the file; returns the unknown keys (dotted paths), which it also

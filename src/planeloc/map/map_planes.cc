@@ -1,10 +1,14 @@
 #include "planeloc/map/map_planes.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
 #include <cmath>
+#include <new>
+#include <string>
 
+#include "planeloc/io/voxel_filter.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
@@ -43,13 +47,30 @@ MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& opti
   options.Check();
   CheckInput(!map.empty(), "", 0, "the map is empty", "give a map with points");
   MapPlanesOutput output;
-  auto start = std::chrono::steady_clock::now();
-  output.voting = RunTensorVoting(map.points, options.tensor_voting);
-  output.voting_seconds = SecondsSince(start);
-  start = std::chrono::steady_clock::now();
-  output.extraction = ExtractPlanes(map.points, output.voting, options.plane_extraction);
-  output.extraction_seconds = SecondsSince(start);
-  output.extraction.plane_map.stats["options"] = MapOptionsToJson(options);
+  output.voxel_size = options.EffectiveVoxelSize();
+  try {
+    auto start = std::chrono::steady_clock::now();
+    if (output.voxel_size > 0.0) {
+      output.points = VoxelFilter(map, output.voxel_size).points;
+    } else {
+      output.points = map.points;
+    }
+    output.voting = RunTensorVoting(output.points, options.tensor_voting);
+    output.voting_seconds = SecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    output.extraction = ExtractPlanes(output.points, output.voting, options.plane_extraction);
+    output.extraction_seconds = SecondsSince(start);
+  } catch (const std::bad_alloc&) {
+    throw InputError("", 0,
+                     fmt::format("map too large for memory ({} points, voxel {} m)", map.size(),
+                                 output.voxel_size),
+                     "use --voxel with a larger voxel, e.g. --voxel 0.2 (or crop the map)");
+  }
+  nlohmann::json& stats = output.extraction.plane_map.stats;
+  stats["options"] = MapOptionsToJson(options);
+  // Points of the file when the map was voxel-filtered while reading (ReadPointCloud).
+  stats["input_points"] = map.source_points > 0 ? map.source_points : map.size();
+  stats["voxel_size"] = output.voxel_size;
   if (output.extraction.plane_map.planes.empty()) {
     spdlog::warn("map planes: no planar structure found in {} points; writing an empty plane map",
                  map.size());

@@ -13,14 +13,20 @@
 namespace planeloc {
 
 struct MapPlanesOutput {
+  // The points voted on and labelled: the input map voxel-filtered (options.voxel_size), in
+  // voxel order; `voting` and `extraction.point_plane` index these.
+  std::vector<Eigen::Vector3d> points;
+  double voxel_size = 0.0;  // metres, effective (0: the input points as given)
   TensorVotingResult voting;
   PlaneExtractionResult extraction;  // plane_map.stats also holds "options"
   double voting_seconds = 0.0;       // wall-clock, for logs only (not written to planes.json)
   double extraction_seconds = 0.0;
 };
 
-// Throws OptionsError for bad options, InputError for an empty map. A map without planes gives an
-// empty plane map (and a warning in the log).
+// Voxel filter, tensor voting and plane extraction (up detected when
+// options.plane_extraction.detect_up). Throws OptionsError for bad options, InputError for an
+// empty map and InputError("map too large for memory: use --voxel") when the neighbourhoods do not
+// fit. A map without planes gives an empty plane map (and a warning in the log).
 MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& options);
 
 // One RGB colour per point for viewing: plane points by plane id (distinct hues), the others by

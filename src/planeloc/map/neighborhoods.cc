@@ -161,7 +161,8 @@ std::vector<std::int32_t> MortonOrder(const std::vector<Eigen::Vector3d>& points
   return BuildGrid(points, cell_size).order;
 }
 
-Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius) {
+Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius,
+                                std::size_t max_neighbors) {
   if (!(radius > 0.0)) throw std::invalid_argument("FindNeighborhoods: radius must be > 0");
   const Grid grid = BuildGrid(points, radius);
   const std::size_t n = points.size();
@@ -181,6 +182,7 @@ Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, doub
         for (std::size_t c = 0; c < count; ++c) {
           size += (d2[c] <= radius2) & (candidates[c] != i);
         }
+        if (max_neighbors > 0) size = std::min(size, static_cast<std::int64_t>(max_neighbors));
         row_sizes[static_cast<std::size_t>(i)] = size;
       });
   for (std::size_t i = 0; i < n; ++i) hoods.offsets[i + 1] = hoods.offsets[i] + row_sizes[i];
@@ -189,10 +191,26 @@ Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, doub
   SweepCells(
       grid, points,
       [&](std::int32_t i, const std::int32_t* candidates, const double* d2, std::size_t count) {
-        std::int32_t* dst = hoods.indices.data() + hoods.offsets[static_cast<std::size_t>(i)];
-        for (std::size_t c = 0; c < count; ++c) {
-          if (d2[c] <= radius2 && candidates[c] != i) *dst++ = candidates[c];
+        const auto row = static_cast<std::size_t>(i);
+        std::int32_t* dst = hoods.indices.data() + hoods.offsets[row];
+        const auto size = static_cast<std::size_t>(hoods.offsets[row + 1] - hoods.offsets[row]);
+        if (max_neighbors == 0 || size < max_neighbors) {
+          for (std::size_t c = 0; c < count; ++c) {
+            if (d2[c] <= radius2 && candidates[c] != i) *dst++ = candidates[c];
+          }
+          return;
         }
+        // Possibly capped: the `size` nearest by (distance, index).
+        thread_local std::vector<std::pair<double, std::int32_t>> near;
+        near.clear();
+        for (std::size_t c = 0; c < count; ++c) {
+          if (d2[c] <= radius2 && candidates[c] != i) near.emplace_back(d2[c], candidates[c]);
+        }
+        std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(size - 1),
+                         near.end());
+        near.resize(size);
+        std::sort(near.begin(), near.end());
+        for (const auto& [distance2, j] : near) *dst++ = j;
       });
   return hoods;
 }

@@ -34,7 +34,11 @@ std::vector<std::int32_t> MortonOrder(const std::vector<Eigen::Vector3d>& points
 
 // All radius neighbourhoods, TBB-parallel, deterministic (the same neighbour order for any thread
 // count). Neighbours of a point are listed cell by cell, the 27 cells around it in a fixed order.
+// max_neighbors > 0 caps every row: a point with more neighbours keeps the max_neighbors nearest
+// (ties by index), listed by increasing distance; capped rows make the relation asymmetric. The
+// cap bounds the cost of dense clouds (a raw scan near the sensor, an unfiltered map).
 // Throws std::invalid_argument for a non-finite point, radius <= 0 or more than 2^31 - 1 points.
-Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius);
+Neighborhoods FindNeighborhoods(const std::vector<Eigen::Vector3d>& points, double radius,
+                                std::size_t max_neighbors = 0);
 
 }  // namespace planeloc

@@ -50,6 +50,32 @@ TEST(NeighborhoodsTest, EqualsBruteForceWithSymmetryAndWithoutSelf) {
   EXPECT_TRUE(std::binary_search(dup.begin(), dup.end(), 5));
 }
 
+TEST(NeighborhoodsTest, CapKeepsTheNearestByDistanceThenIndex) {
+  const auto points = RandomCloud(2000, 2.0, 7);
+  const double radius = 0.5;
+  const std::size_t cap = 20;
+  const Neighborhoods full = FindNeighborhoods(points, radius);
+  const Neighborhoods capped = FindNeighborhoods(points, radius, cap);
+  std::size_t rows_capped = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::vector<std::pair<double, std::int32_t>> expected;
+    for (auto k = full.begin(i); k < full.end(i); ++k) {
+      const std::int32_t j = full.indices[k];
+      expected.emplace_back((points[j] - points[i]).squaredNorm(), j);
+    }
+    std::sort(expected.begin(), expected.end());
+    if (expected.size() > cap) {
+      expected.resize(cap);
+      ++rows_capped;
+    }
+    std::vector<std::int32_t> nearest;
+    for (const auto& e : expected) nearest.push_back(e.second);
+    std::sort(nearest.begin(), nearest.end());
+    ASSERT_EQ(Row(capped, i), nearest) << "point " << i;
+  }
+  EXPECT_GT(rows_capped, points.size() / 2);  // the cap is exercised
+}
+
 TEST(NeighborhoodsTest, SameSetsAsOpen3dKdTree) {
   const auto scene = testing::SceneBuilder::StreetCorner(0.1, 0.02, 3);
   const double radius = 0.75;

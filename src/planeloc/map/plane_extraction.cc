@@ -240,12 +240,63 @@ bool Describe(const std::vector<Eigen::Vector3d>& points, const Patch& patch,
   out.centroid = centroid;
   out.inliers = static_cast<int>(patch.points.size());
   out.rms = patch.rms;
-  const double up_dot = std::abs(n.dot(up));
-  out.kind = up_dot >= cos_kind ? "ground" : (up_dot <= 1.0 - cos_kind ? "facade" : "other");
+  out.kind = PlaneKind(n, up, options.kind_angle_deg);
+  return true;
+}
+
+// The up direction (see the header): dominant near-axis plane, signed by its off-plane neighbours.
+// Returns false when no patch qualifies.
+bool DetectUp(const std::vector<Eigen::Vector3d>& points, const Neighborhoods& hoods,
+              const std::vector<Patch>& patches_by_size, const PlaneExtractionOptions& options,
+              Eigen::Vector3d& up) {
+  const Patch* dominant = nullptr;
+  const Patch* largest = nullptr;
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  const double cos_axis = Cos(2.0 * options.kind_angle_deg);
+  for (const Patch& patch : patches_by_size) {
+    if (static_cast<int>(patch.points.size()) < options.min_inliers) break;  // sorted by size
+    if (patch.rms > options.max_rms) continue;
+    if (!largest) largest = &patch;
+    Eigen::Index k = 0;
+    if (patch.plane.normal.cwiseAbs().maxCoeff(&k) >= cos_axis) {
+      dominant = &patch;
+      axis = Eigen::Vector3d::Unit(k);
+      break;
+    }
+  }
+  if (!dominant) {
+    if (!largest) return false;
+    dominant = largest;
+    axis = largest->plane.normal;
+  }
+  const Plane& plane = dominant->plane;
+  std::size_t above = 0, below = 0;  // along +axis
+  const std::size_t stride = std::max<std::size_t>(1, dominant->points.size() / 20000);
+  for (std::size_t s = 0; s < dominant->points.size(); s += stride) {
+    const int i = dominant->points[s];
+    for (auto k = hoods.begin(i); k < hoods.end(i); ++k) {
+      const Eigen::Vector3d& q = points[hoods.indices[k]];
+      const double height = (q - points[i]).dot(axis);
+      if (std::abs(plane.SignedDistance(q)) <= options.inlier_distance) continue;
+      above += height > 0.0;
+      below += height < 0.0;
+    }
+  }
+  up = above >= below ? axis : Eigen::Vector3d(-axis);
+  up += Eigen::Vector3d::Zero();  // -0 + 0 = +0: no "-0" components in logs and planes.json
   return true;
 }
 
 }  // namespace
+
+std::string PlaneKind(const Eigen::Vector3d& normal, const Eigen::Vector3d& up,
+                      double kind_angle_deg) {
+  const double up_dot = std::abs(normal.dot(up.normalized()));
+  if (up_dot >= Cos(kind_angle_deg)) return "ground";
+  // Within kind_angle_deg of horizontal: at least 90 - kind_angle_deg from up.
+  if (up_dot <= std::sin(kind_angle_deg * std::numbers::pi / 180.0)) return "facade";
+  return "other";
+}
 
 void PlaneExtractionOptions::Check() const {
   clustering.Check();
@@ -384,11 +435,19 @@ PlaneExtractionResult ExtractPlanes(const std::vector<Eigen::Vector3d>& points,
   std::stable_sort(patches.begin(), patches.end(), [](const Patch& a, const Patch& b) {
     return a.points.size() > b.points.size();
   });
+  PlaneExtractionOptions effective = options;
+  result.up = options.up.normalized();
+  if (options.detect_up && DetectUp(points, voting.neighborhoods, patches, options, effective.up)) {
+    result.up = effective.up;
+    result.up_detected = true;
+  }
+  stats["up"] = {result.up.x(), result.up.y(), result.up.z()};
+  stats["up_detected"] = result.up_detected;
   result.point_plane.assign(points.size(), -1);
   std::size_t labelled = 0;
   for (const Patch& patch : patches) {
     MapPlane plane;
-    if (!Describe(points, patch, options, plane)) continue;
+    if (!Describe(points, patch, effective, plane)) continue;
     plane.id = static_cast<int>(result.plane_map.planes.size());
     for (const int i : patch.points) result.point_plane[i] = plane.id;
     labelled += patch.points.size();

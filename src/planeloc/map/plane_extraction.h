@@ -12,6 +12,10 @@
 //  7. outline: concave outline of the inliers in plane coordinates (plane_outline.h: occupancy
 //     grid, closing, outer boundary of the largest component), area = occupied-cell area.
 // Everything is in the cloud's frame (the map frame). Deterministic.
+// Up (options.detect_up): after step 5, the largest plane (most inliers, rms <= max_rms) whose
+// normal is within 2 kind_angle_deg of a coordinate axis gives the up axis (the normal of the
+// largest plane when none is); its sign is the side where most off-plane neighbours of the plane's
+// points lie (kerbs, walls, cars and trees stand on the ground; nothing lies under it).
 #pragma once
 
 #include <Eigen/Core>
@@ -40,6 +44,8 @@ struct PlaneExtractionOptions {
   // Up direction of the map frame, for the "ground" / "facade" kind and normal orientation.
   // KITTI maps (camera-0 world frame, y down): (0, -1, 0); a raw Velodyne scan: (0, 0, 1).
   Eigen::Vector3d up = Eigen::Vector3d(0.0, -1.0, 0.0);
+  // true: `up` is ignored and detected from the dominant horizontal plane (DetectUp below).
+  bool detect_up = false;
   double kind_angle_deg = 10.0;  // normal within this of up = ground, of horizontal = facade
   PlaneOutlineOptions outline;   // polygon and area of each plane (min_area applies to this area)
 
@@ -49,7 +55,14 @@ struct PlaneExtractionOptions {
 struct PlaneExtractionResult {
   PlaneMap plane_map;            // planes sorted by inliers, ids 0..n-1; stats filled
   std::vector<int> point_plane;  // plane id per input point, -1 when not on a plane
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();  // unit up used for kinds and orientation
+  bool up_detected = false;                      // true when DetectUp chose `up`
 };
+
+// "ground" when the unit normal is within kind_angle_deg of `up` (either sign), "facade" when it is
+// within kind_angle_deg of horizontal (perpendicular to up), "other" otherwise.
+std::string PlaneKind(const Eigen::Vector3d& normal, const Eigen::Vector3d& up,
+                      double kind_angle_deg);
 
 // `voting` must come from RunTensorVoting(points, ...). An input without planar structure gives an
 // empty plane map (not an error; the caller warns).

@@ -107,6 +107,87 @@ TEST(PlaneExtractionTest, CarSizedBoxIsNotAPlane) {
   EXPECT_TRUE(result.plane_map.planes.empty());
 }
 
+double Rad(double degrees) { return degrees * std::numbers::pi / 180.0; }
+
+// Issue 10: "ground" within 10 deg of up, "facade" within 10 deg of vertical (the docs' rule; the
+// old code took 1 - cos 10 deg = 0.015, i.e. within 0.87 deg of vertical, for the facade test).
+TEST(PlaneExtractionTest, GroundAndFacadeLabelsOnAKnownScene) {
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
+                        z = Eigen::Vector3d::UnitZ();
+  // Separate planes (no two within the 0.75 m neighbourhood radius), z up. The tilt is the angle
+  // of the normal from up (ground, roof, ramp) or from horizontal (walls).
+  struct Expected {
+    const char* what;
+    const char* kind;
+  };
+  const std::vector<Expected> expected = {
+      {"road, normal = up", "ground"},
+      {"wall, normal horizontal", "facade"},
+      {"wall leaning 5 deg: normal 5 deg from horizontal (< 10)", "facade"},
+      {"ramp, normal 30 deg from up: neither", "other"},
+      {"roof, normal 6 deg from up (< 10)", "ground"},
+      {"wall leaning 15 deg: normal 15 deg from horizontal (> 10)", "other"}};
+  SceneBuilder builder(0.1, 0.01, 12);
+  builder.Rectangle({-10, -10, 0}, x, 20.0, y, 10.0, true);
+  builder.Rectangle({15, 5, 0}, y, 5.0, z, 4.0, true);
+  builder.Rectangle({-15, 5, 0}, y, 5.0, std::sin(Rad(5)) * x + std::cos(Rad(5)) * z, 4.0, true);
+  builder.Rectangle({0, 10, 3}, x, 5.0, std::cos(Rad(30)) * y + std::sin(Rad(30)) * z, 4.0, true);
+  builder.Rectangle({0, 20, 8}, x, 5.0, std::cos(Rad(6)) * y + std::sin(Rad(6)) * z, 4.0, true);
+  builder.Rectangle({-15, 20, 0}, y, 5.0, std::sin(Rad(15)) * x + std::cos(Rad(15)) * z, 4.0, true);
+  const SyntheticScene& scene = builder.scene();
+  ASSERT_EQ(scene.gt_planes.size(), expected.size());
+  const PlaneExtractionResult result = Extract(scene, ZUp());
+  for (std::size_t g = 0; g < expected.size(); ++g) {
+    const MapPlane* match = nullptr;
+    for (const MapPlane& p : result.plane_map.planes) {
+      if (p.plane_in_map.AngleTo(scene.gt_planes[g]) < Rad(1.0) &&
+          std::abs(scene.gt_planes[g].SignedDistance(p.centroid)) < 0.05) {
+        match = &p;
+      }
+    }
+    ASSERT_NE(match, nullptr) << expected[g].what;
+    EXPECT_EQ(match->kind, expected[g].kind) << expected[g].what;
+  }
+  // The rule itself at its borders (10 deg): 9.5 deg in, 10.5 deg out, for both kinds.
+  EXPECT_EQ(PlaneKind({std::sin(Rad(9.5)), 0, std::cos(Rad(9.5))}, z, 10.0), "ground");
+  EXPECT_EQ(PlaneKind({std::sin(Rad(10.5)), 0, std::cos(Rad(10.5))}, z, 10.0), "other");
+  EXPECT_EQ(PlaneKind({std::cos(Rad(9.5)), 0, std::sin(Rad(9.5))}, z, 10.0), "facade");
+  EXPECT_EQ(PlaneKind({std::cos(Rad(10.5)), 0, -std::sin(Rad(10.5))}, z, 10.0), "other");
+  EXPECT_EQ(PlaneKind({0, 0, -1}, z, 10.0), "ground");  // either sign of the normal
+}
+
+// Issue 10: a map's up axis is detected from its dominant horizontal plane in any axis-aligned
+// frame: z up (Velodyne, LOAM), y down (KITTI camera world), x up, z down (NED).
+TEST(PlaneExtractionTest, DetectsUpInEveryAxisFrame) {
+  const SyntheticScene z_up = SceneBuilder::StreetCorner(0.12, 0.02, 21);
+  struct Frame {
+    const char* name;
+    Eigen::Matrix3d rotation;  // frame_from_z_up
+  };
+  Eigen::Matrix3d camera, x_up, ned;
+  camera << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  x_up << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+  ned << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  for (const Frame& frame : {Frame{"z up", Eigen::Matrix3d::Identity()}, Frame{"camera", camera},
+                             Frame{"x up", x_up}, Frame{"ned", ned}}) {
+    SyntheticScene scene = z_up;
+    for (auto& p : scene.points) p = frame.rotation * p;
+    PlaneExtractionOptions options;  // default up (0, -1, 0) is wrong for three of the frames
+    options.detect_up = true;
+    const PlaneExtractionResult result = Extract(scene, options);
+    const Eigen::Vector3d expected_up = frame.rotation * Eigen::Vector3d::UnitZ();
+    EXPECT_TRUE(result.up_detected) << frame.name;
+    EXPECT_EQ(result.up, expected_up) << frame.name;
+    ASSERT_FALSE(result.plane_map.planes.empty()) << frame.name;
+    const MapPlane& road = result.plane_map.planes[0];  // the largest plane
+    EXPECT_EQ(road.kind, "ground") << frame.name;
+    EXPECT_GT(road.plane_in_map.normal.dot(expected_up), 0.99) << frame.name;  // points up
+    int facades = 0;
+    for (const MapPlane& p : result.plane_map.planes) facades += p.kind == "facade";
+    EXPECT_GE(facades, 2) << frame.name;
+  }
+}
+
 TEST(PlaneExtractionTest, OptionsCheck) {
   PlaneExtractionOptions options;
   options.growth_distance = -1.0;

@@ -182,6 +182,7 @@ void TensorVotingOptions::Check() const {
   if (stick_passes < 0 || stick_passes > 10) {
     throw OptionsError("TensorVotingOptions.stick_passes must be in [0, 10]");
   }
+  if (max_neighbors < 0) throw OptionsError("TensorVotingOptions.max_neighbors must be >= 0");
 }
 
 std::string SaliencyClassName(SaliencyClass saliency_class) {
@@ -274,7 +275,8 @@ TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
   for (std::size_t k = 1; k < n; ++k) breaks += order[k] != order[k - 1] + 1;
   if (breaks <= n / 100) {
     TensorVotingResult result = EmptyResult(n);
-    result.neighborhoods = FindNeighborhoods(points, options.radius());
+    result.neighborhoods = FindNeighborhoods(points, options.radius(),
+                                             static_cast<std::size_t>(options.max_neighbors));
     Vote(points, options, result.neighborhoods, result);
     return result;
   }
@@ -282,7 +284,8 @@ TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
   ParallelFor(n, [&](std::size_t k) { sorted_points[k] = points[order[k]]; });
   TensorVotingResult sorted = EmptyResult(n);
   {
-    const Neighborhoods sorted_hoods = FindNeighborhoods(sorted_points, options.radius());
+    const Neighborhoods sorted_hoods = FindNeighborhoods(
+        sorted_points, options.radius(), static_cast<std::size_t>(options.max_neighbors));
     Vote(sorted_points, options, sorted_hoods, sorted);
   }
   std::vector<Eigen::Vector3d>().swap(sorted_points);
@@ -298,7 +301,8 @@ TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
   });
   // Searching again in the input order costs about what renumbering the sorted graph would, and
   // never holds two graphs in memory.
-  result.neighborhoods = FindNeighborhoods(points, options.radius());
+  result.neighborhoods =
+      FindNeighborhoods(points, options.radius(), static_cast<std::size_t>(options.max_neighbors));
   return result;
 }
 

@@ -53,6 +53,10 @@ struct TensorVotingOptions {
                                       // because we look for planes, not curved surfaces
   double max_stick_angle_deg = 45.0;  // voters see the votee at most this far off their plane
   int stick_passes = 2;               // refinement passes after the ball pass (0 = ball only)
+  // Neighbours kept a point (the nearest; 0 = all). 512 is ~3x a planar neighbourhood of a
+  // 0.1 m-voxel map (~180 at 0.75 m) and above a voxelized tree crown, so it only bounds the cost
+  // of unfiltered dense clouds (a raw scan near the sensor holds thousands).
+  int max_neighbors = 512;
 
   double radius() const { return radius_factor * sigma; }
   // Throws OptionsError naming the field.
@@ -84,7 +88,8 @@ SaliencyClass ClassifySaliency(double l1, double l2, double l3);
 // Runs the ball pass and `stick_passes` stick passes on `points` (any frame, metres).
 TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
                                    const TensorVotingOptions& options);
-// Same, with neighbourhoods already found (radius must equal options.radius()).
+// Same, with neighbourhoods already found (radius must equal options.radius(), capped at
+// options.max_neighbors for the same result).
 TensorVotingResult RunTensorVoting(const std::vector<Eigen::Vector3d>& points,
                                    const TensorVotingOptions& options, Neighborhoods neighborhoods);
 

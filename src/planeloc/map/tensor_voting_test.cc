@@ -119,8 +119,11 @@ TEST(TensorVotingTest, InputOrderDoesNotChangeTheResult) {
   const auto scene = SceneBuilder::StreetCorner(0.3, 0.02, 13);
   const TensorVotingOptions options;
   const TensorVotingResult sorted = RunTensorVoting(scene.points, options);
+  // The same cap as RunTensorVoting (the tree crown's rows reach it).
   const TensorVotingResult given =
-      RunTensorVoting(scene.points, options, FindNeighborhoods(scene.points, options.radius()));
+      RunTensorVoting(scene.points, options,
+                      FindNeighborhoods(scene.points, options.radius(),
+                                        static_cast<std::size_t>(options.max_neighbors)));
   ASSERT_EQ(sorted.size(), given.size());
   ASSERT_EQ(sorted.neighborhoods.offsets, given.neighborhoods.offsets);
   for (std::size_t i = 0; i < sorted.size(); ++i) {

@@ -172,6 +172,22 @@ RunSummary RunSequence(const RunOptions& run) {
       spdlog::warn("{}: the plane map has no planes; the run is visual odometry only",
                    run.planes_path->string());
     }
+    // The plane map's frame is the world frame of the run: the initial pose must be given in it.
+    const PlaneMapFrame& frame = plane_map->frame;
+    const Eigen::Vector3d& t = run.world_from_cam_initial.translation;
+    if (frame.known()) {
+      spdlog::info(
+          "run: world frame = the plane map's frame '{}' (map {}, up [{:.3f}, {:.3f}, {:.3f}] "
+          "{}); initial camera position in it: [{:.3f}, {:.3f}, {:.3f}]",
+          frame.name, frame.map_file, frame.up.x(), frame.up.y(), frame.up.z(), frame.up_source,
+          t.x(), t.y(), t.z());
+    } else {
+      spdlog::info(
+          "run: world frame = the frame of {} (written before frames were recorded; assumed to "
+          "be the frame of the initial pose); initial camera position in it: [{:.3f}, {:.3f}, "
+          "{:.3f}]",
+          run.planes_path->string(), t.x(), t.y(), t.z());
+    }
   }
   std::optional<SettingsFile> settings = ReadSettings(run);
   const KittiSequence sequence = KittiSequence::Open(run.sequence, run.cameras);
