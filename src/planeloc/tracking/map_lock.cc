@@ -65,16 +65,21 @@ std::string RegistrationReport::ToJson() const {
         fmt::format("{}{}", i ? "," : "", JsonNumber(result.information_eigenvalues(i), 3));
   }
   const Eigen::Vector3d t = result.map_from_world.translation;
+  const Eigen::Vector3d ct = result.candidate_map_from_world.translation;
+  const Eigen::Quaterniond& cq = result.candidate_map_from_world.rotation;
   return fmt::format(
       "{{\"keyframe\":{},\"lock\":\"{}\",\"points\":{},\"inliers\":{},\"inlier_ratio\":{},"
-      "\"rms\":{},\"margin\":{},\"hypotheses\":{},\"constrained\":[{}],\"dof_sigma\":{{{}}},"
+      "\"rms\":{},\"whitened_rms\":{},\"margin\":{},\"hypotheses\":{},\"constrained\":[{}],\"dof_"
+      "sigma\":{{{}}},"
       "\"information_eigenvalues\":[{}],\"correction\":{{\"translation\":[{:.4f},{:.4f},{:.4f}],"
-      "\"angle_deg\":{:.4f}}},\"reason\":\"{}\"}}",
+      "\"angle_deg\":{:.4f}}},\"candidate\":{{\"translation\":[{:.4f},{:.4f},{:.4f}],"
+      "\"rotation_xyzw\":[{:.6f},{:.6f},{:.6f},{:.6f}]}},\"reason\":\"{}\"}}",
       keyframe_id, MapLockName(lock_after), result.points, result.inliers,
-      JsonNumber(result.inlier_ratio, 4), JsonNumber(result.rms, 4), JsonNumber(result.margin, 3),
-      result.hypotheses, dofs, sigmas, eigenvalues, t.x(), t.y(), t.z(),
+      JsonNumber(result.inlier_ratio, 4), JsonNumber(result.rms, 4),
+      JsonNumber(result.whitened_rms, 3), JsonNumber(result.margin, 3), result.hypotheses, dofs,
+      sigmas, eigenvalues, t.x(), t.y(), t.z(),
       RotationAngle(result.map_from_world.rotation, Eigen::Quaterniond::Identity()) / kDegree,
-      result.reason);
+      ct.x(), ct.y(), ct.z(), cq.x(), cq.y(), cq.z(), cq.w(), result.reason);
 }
 
 MapLocker::MapLocker(const PlaneMap& planes, const MapLockOptions& options, const StartPrior& start,

@@ -44,9 +44,9 @@ struct MapLockOptions {
   MapRegistrationOptions registration;
   int attempt_every_keyframes = 2;   // while not locked, a registration every N keyframes
   int structure_keyframes = 40;      // structure: points of the segment's last N keyframes ...
-  double max_point_distance = 30.0;  // ... within this distance (m) of their reference keyframe
+  double max_point_distance = 20.0;  // ... within this distance (m) of their reference keyframe
   int min_point_observations = 2;    // ... seen by this many keyframes
-  double disparity_sigma_px = 0.3;   // depth sigma of a point: z^2 / (f b) * this
+  double disparity_sigma_px = 0.2;   // depth sigma of a point: z^2 / (f b) * this
   // Prior growth with the distance driven since the prior's pivot (visual odometry drift).
   double drift_fraction = 0.01;  // metres per metre, horizontal
   double drift_yaw_deg_per_100m = 0.3;

@@ -94,12 +94,13 @@ void MapRegistrationOptions::Check() const {
   positive(outline_margin, "outline_margin");
   positive(inlier_sigmas, "inlier_sigmas");
   positive(min_point_sigma, "min_point_sigma");
-  positive(max_rms, "max_rms");
+  positive(max_whitened_rms, "max_whitened_rms");
   positive(min_margin, "min_margin");
   positive(distinct_shift, "distinct_shift");
   positive(distinct_angle_deg, "distinct_angle_deg");
   positive(max_dof_sigma, "max_dof_sigma");
   positive(max_dof_sigma_deg, "max_dof_sigma_deg");
+  positive(max_tilt_sigma_deg, "max_tilt_sigma_deg");
   positive(noise_inflation, "noise_inflation");
   positive(sigma_tilt_deg, "sigma_tilt_deg");
   if (max_headings < 1) throw OptionsError("MapRegistrationOptions.max_headings must be >= 1");
@@ -152,7 +153,10 @@ struct MapRegistration::Hypothesis {
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   double votes = 0;
   int inliers = 0;
-  double rms = 0;
+  // Truncated chi2 over all points: (d / sigma)^2, at most inlier_sigmas^2 (also for points on
+  // no plane). Differences between hypotheses are log-likelihood ratios.
+  double cost = 0;
+  double rms = 0, whitened_rms = 0;
   Matrix6d information = Matrix6d::Zero();  // point-to-plane only, (shift, omega) at the pivot
 };
 
@@ -280,7 +284,9 @@ void MapRegistration::Refine(const std::vector<RegistrationPoint>& points,
   associate(0.0);
   hypothesis.inliers = 0;
   hypothesis.information.setZero();
-  double sum2 = 0;
+  double sum2 = 0, whitened2 = 0;
+  const double truncation2 = options_.inlier_sigmas * options_.inlier_sigmas;
+  hypothesis.cost = truncation2 * static_cast<double>(points.size());
   const double inflation2 = options_.noise_inflation * options_.noise_inflation;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (matches[i].plane < 0) continue;
@@ -289,6 +295,8 @@ void MapRegistration::Refine(const std::vector<RegistrationPoint>& points,
     const double distance = plane.SignedDistance(q + c + hypothesis.shift);
     ++hypothesis.inliers;
     sum2 += distance * distance;
+    whitened2 += distance * distance / (matches[i].sigma * matches[i].sigma);
+    hypothesis.cost += distance * distance / (matches[i].sigma * matches[i].sigma) - truncation2;
     Eigen::Matrix<double, 1, 6> j;
     j.head<3>() = plane.normal.transpose();
     j.tail<3>() = -plane.normal.transpose() * Hat(q);
@@ -296,6 +304,8 @@ void MapRegistration::Refine(const std::vector<RegistrationPoint>& points,
         j.transpose() * j / (matches[i].sigma * matches[i].sigma * inflation2);
   }
   hypothesis.rms = hypothesis.inliers > 0 ? std::sqrt(sum2 / hypothesis.inliers) : kInf;
+  hypothesis.whitened_rms =
+      hypothesis.inliers > 0 ? std::sqrt(whitened2 / hypothesis.inliers) : kInf;
 }
 
 RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint>& all_points,
@@ -561,13 +571,13 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
   for (Hypothesis& h : hypotheses) Refine(points, prior, candidates, h);
   result.hypotheses = static_cast<int>(hypotheses.size());
   std::stable_sort(hypotheses.begin(), hypotheses.end(),
-                   [](const Hypothesis& a, const Hypothesis& b) {
-                     return a.inliers != b.inliers ? a.inliers > b.inliers : a.rms < b.rms;
-                   });
+                   [](const Hypothesis& a, const Hypothesis& b) { return a.cost < b.cost; });
   const Hypothesis& best = hypotheses.front();
+  result.candidate_map_from_world = Rigid3d(best.rotation, c + best.shift - best.rotation * c);
   result.inliers = best.inliers;
   result.inlier_ratio = static_cast<double>(best.inliers) / result.points;
   result.rms = best.rms;
+  result.whitened_rms = best.whitened_rms;
 
   // Conditioning at the current camera.
   // Conditioning at the current camera, in the map frame of the best hypothesis: a change
@@ -587,8 +597,10 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
     const double sigma = std::sqrt(std::max(0.0, named[dof].dot(block * named[dof])));
     // Above 10 m (or 1 rad) the regularization, not the data, sets the value: unobserved.
     result.dof_sigma[dof] = sigma > (dof < 3 ? 10.0 : 0.5) ? kInf : sigma;
-    result.constrained[dof] =
-        dof < 3 ? sigma <= options_.max_dof_sigma : sigma <= options_.max_dof_sigma_deg * kDegree;
+    const double limit = dof < 3       ? options_.max_dof_sigma
+                         : dof == kYaw ? options_.max_dof_sigma_deg * kDegree
+                                       : options_.max_tilt_sigma_deg * kDegree;
+    result.constrained[dof] = sigma <= limit;
   }
   Matrix6d metric = best.information;
   metric.bottomRightCorner<3, 3>() /= kLeverArm * kLeverArm;
@@ -600,7 +612,7 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
   const auto apply = [&](const Hypothesis& h, const Eigen::Vector3d& x) {
     return Eigen::Vector3d(h.rotation * (x - c) + c + h.shift);
   };
-  int second = 0;
+  double second = kInf;
   for (std::size_t k = 1; k < hypotheses.size(); ++k) {
     const Hypothesis& other = hypotheses[k];
     const Eigen::Vector3d dt = apply(other, camera) - apply(best, camera);
@@ -612,9 +624,12 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
       distinct |= dof < 3 ? difference > options_.distinct_shift
                           : difference > options_.distinct_angle_deg * kDegree;
     }
-    if (distinct) second = std::max(second, other.inliers);
+    if (distinct) second = std::min(second, other.cost);
   }
-  result.margin = second > 0 ? static_cast<double>(best.inliers) / second : kInf;
+  // The cost difference to the best distinct hypothesis, deflated like the information: a
+  // chi2-like log-likelihood ratio that ground points (which fit every hypothesis of the right
+  // height) do not dilute.
+  result.margin = (second - best.cost) / (options_.noise_inflation * options_.noise_inflation);
 
   const bool all_but_along = result.constrained[kLateral] && result.constrained[kVertical] &&
                              result.constrained[kRoll] && result.constrained[kPitch] &&
@@ -622,8 +637,8 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
   if (result.inlier_ratio < options_.min_inlier_ratio || best.inliers < options_.min_points / 2) {
     result.reason = "few points on planes (" + std::to_string(best.inliers) + " of " +
                     std::to_string(result.points) + ")";
-  } else if (result.rms > options_.max_rms) {
-    result.reason = "point-to-plane rms too large";
+  } else if (result.whitened_rms > options_.max_whitened_rms) {
+    result.reason = "point-to-plane residuals too large for the points' sigmas";
   } else if (result.margin < options_.min_margin) {
     result.reason = "ambiguous: a distinct hypothesis fits almost as well";
   } else if (!all_but_along) {

@@ -73,16 +73,19 @@ struct MapRegistrationOptions {
   double inlier_sigmas = 3.0;
   double min_point_sigma = 0.05;
   double min_inlier_ratio = 0.25;
-  double max_rms = 0.15;    // metres, of the inliers' point-to-plane distances
-  double min_margin = 1.3;  // inliers of the best / of the best distinct hypothesis
+  // Whitened RMS of the inliers' point-to-plane distances (about 1 when the sigmas are right).
+  double max_whitened_rms = 1.5;
+  // Truncated chi2 of the best distinct hypothesis minus the best's (over noise_inflation^2).
+  double min_margin = 10.0;
   // Hypotheses closer than this (metres / degrees in the constrained DoF) are the same one.
   double distinct_shift = 0.5;
   double distinct_angle_deg = 1.5;
   // Conditioning: a DoF is constrained when its marginal standard deviation from the
   // point-to-plane information (point noise inflated by `noise_inflation` for the correlated
   // errors of visual structure) is below these.
-  double max_dof_sigma = 0.05;     // metres
-  double max_dof_sigma_deg = 0.3;  // degrees
+  double max_dof_sigma = 0.1;       // metres
+  double max_dof_sigma_deg = 0.5;   // degrees, heading
+  double max_tilt_sigma_deg = 1.0;  // degrees, roll and pitch (10 m away: 17 cm)
   double noise_inflation = 3.0;
   // Prior on roll and pitch (degrees): the start pose's tilt, refined by the road.
   double sigma_tilt_deg = 1.0;
@@ -118,6 +121,8 @@ struct RegistrationResult {
   MapLock lock = MapLock::kSearching;
   // The correction to apply (identity unless lock != kSearching): p_map = map_from_world * p.
   Rigid3d map_from_world;
+  // The best hypothesis, whether accepted or not (for the stats).
+  Rigid3d candidate_map_from_world;
   // Marginal standard deviations of the named DoF at the current camera (metres / radians), from
   // the point-to-plane information of the best hypothesis; +inf when unobserved.
   std::array<double, kNumDofs> dof_sigma{};
@@ -126,10 +131,11 @@ struct RegistrationResult {
   int points = 0;                                       // structure points used
   int inliers = 0;                                      // of the best hypothesis
   double inlier_ratio = 0;
-  double rms = 0;      // metres, inliers' point-to-plane distances
-  double margin = 0;   // best / second distinct inliers (inf without a distinct second)
-  int hypotheses = 0;  // refined
-  std::string reason;  // why it is not (fully) locked
+  double rms = 0;           // metres, inliers' point-to-plane distances
+  double whitened_rms = 0;  // the same, each divided by its point's sigma
+  double margin = 0;        // chi2 margin over the best distinct hypothesis (inf without one)
+  int hypotheses = 0;       // refined
+  std::string reason;       // why it is not (fully) locked
 };
 
 class MapRegistration {
