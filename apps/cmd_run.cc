@@ -59,8 +59,10 @@ int Run(const RunArgs& args) {
       summary.tracked, summary.lost, summary.skipped, summary.keyframes,
       summary.mean_tracked_points, summary.median_ba_reprojection_px);
   if (options.planes_path) {
-    spdlog::info("plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average",
-                 summary.planes, summary.mean_ba_plane_residuals);
+    spdlog::info(
+        "plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average, {} "
+        "planes disabled (biased)",
+        summary.planes, summary.mean_ba_plane_residuals, summary.planes_disabled);
     if (summary.planes > 0 && summary.keyframes > 1 && summary.mean_ba_plane_residuals < 1.0) {
       spdlog::warn(
           "{}: almost no map point lay on a plane of the map; is the plane map in the frame of "

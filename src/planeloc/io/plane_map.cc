@@ -156,6 +156,7 @@ PlaneMap ReadPlaneMap(const std::filesystem::path& path) {
                kSchemaFix);
     map.stats = document["stats"];
   }
+  map.source = path;
   return map;
 }
 

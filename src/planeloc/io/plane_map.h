@@ -28,6 +28,7 @@ struct MapPlane {
 struct PlaneMap {
   std::vector<MapPlane> planes;
   nlohmann::json stats = nlohmann::json::object();
+  std::filesystem::path source;  // the file ReadPlaneMap read it from (for messages); not written
 };
 
 // Throws InputError naming the file (and the plane index) on a malformed document.

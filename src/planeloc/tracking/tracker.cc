@@ -61,6 +61,7 @@ std::string FrameStats::ToJson() const {
   if (ba_window_keyframes) {
     json += fmt::format(",\"ba_window_keyframes\":{}", *ba_window_keyframes);
   }
+  if (planes_disabled) json += fmt::format(",\"planes_disabled\":{}", *planes_disabled);
   return json + "}";
 }
 
@@ -400,7 +401,8 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   const auto ba_start = Clock::now();
   BaJob job;
   job.keyframe_id = kf_id;
-  job.problem = BuildLocalWindow(map_, kf_id, options_, planes_.get());
+  job.problem = BuildLocalWindow(map_, kf_id, options_, camera_, planes_.get());
+  if (planes_) stats.planes_disabled = planes_->num_disabled();
   if (job.problem.observations.empty()) {
     // Nothing to adjust (a keyframe without points).
   } else if (ba_worker_) {

@@ -51,6 +51,8 @@ struct FrameStats {
   // Of that BA: point-to-plane residuals (plane mode) and free keyframes of its window.
   std::optional<int> ba_plane_residuals;
   std::optional<int> ba_window_keyframes;
+  // Plane mode, keyframes: planes of the map disabled so far (their points sit off them).
+  std::optional<int> planes_disabled;
   // One JSON object on one line (the --stats format).
   std::string ToJson() const;
 };
