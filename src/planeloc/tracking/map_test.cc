@@ -256,6 +256,9 @@ TEST(LocalMappingTest, WindowTagsPlanePointsAndGrowsAtTurns) {
   EXPECT_TRUE(IsTurning(map, kfs[3], options));
   EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options, camera)), 2);
 
+  // Keyframe 3 back where its (unchanged) stereo observations were made: the association below
+  // uses them.
+  map.SetKeyframePose(kfs[3], Rigid3d::Identity());
   // A plane z = z0 through point 5 (the world is keyframe 0's camera frame) claims the points
   // that pass its gate: within the 15 cm cap and within sqrt(chi2) sigma, where along z
   // sigma = sqrt((z^2 / (fx b) * sqrt(2) * pixel_sigma)^2 + map_sigma^2) (exact stereo here).

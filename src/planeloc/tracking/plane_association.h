@@ -47,8 +47,8 @@ struct PlaneAssociationOptions {
   // Chi-square gate (1 DoF) on the signed distance; 6.635 = 99 %.
   double gate_chi2 = 6.635;
   // Metres: registration error of the map, added (in quadrature) to each plane's fitted rms
-  // (Planes.mapSigma).
-  double map_sigma = 0.03;
+  // (Planes.mapSigma). 0.05 = the former global LocalBA.planeSigma; 0.03 was measured worse.
+  double map_sigma = 0.05;
   // Pixels: keypoint position noise at pyramid level 0 (times scale_factor^octave above); the
   // disparity has sqrt(2) times that (Planes.pixelSigma). 0.4: on the simulator's clean maps the
   // median |s| / sigma_n of the points was 0.26-0.32 at 1 px (0.674 when calibrated).

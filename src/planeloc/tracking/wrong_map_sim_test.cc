@@ -88,7 +88,7 @@ TEST(WrongMapSimTest, MovedPlanesAreDisabledAndTheAteStaysNearTheCleanMaps) {
   // Measured (see docs/benchmarks.md, "A map that can be wrong"): ATE_PLACEHOLDER
   EXPECT_GE(with_moved.planes_disabled, 1);
   EXPECT_LT(ate_moved, ate_visual);
-  EXPECT_LT(ate_moved, BOUND_PLACEHOLDER);
+  EXPECT_LT(ate_moved, 1.0);  // BOUND-TBD
 }
 
 }  // namespace
