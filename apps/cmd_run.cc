@@ -73,8 +73,10 @@ int Run(const RunArgs& args) {
       summary.tracked, summary.lost, summary.skipped, summary.keyframes,
       summary.mean_tracked_points, summary.median_ba_reprojection_px);
   if (options.planes_path) {
-    spdlog::info("plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average",
-                 summary.planes, summary.mean_ba_plane_residuals);
+    spdlog::info(
+        "plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average, {} "
+        "planes disabled (biased)",
+        summary.planes, summary.mean_ba_plane_residuals, summary.planes_disabled);
     if (options.start_prior.Exact()) {
       spdlog::info(
           "map lock: exact start (--init-sigma \"0 0 0\"), plane constraints from frame 0");

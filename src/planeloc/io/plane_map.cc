@@ -181,6 +181,7 @@ PlaneMap ReadPlaneMap(const std::filesystem::path& path) {
   if (document.contains("frame") && !document["frame"].is_null()) {
     map.frame = ReadFrame(path.string(), document["frame"]);
   }
+  map.source = path;
   return map;
 }
 

@@ -41,7 +41,8 @@ struct PlaneMapFrame {
 struct PlaneMap {
   std::vector<MapPlane> planes;
   nlohmann::json stats = nlohmann::json::object();
-  PlaneMapFrame frame;  // not known() for files without "frame"
+  PlaneMapFrame frame;           // not known() for files without "frame"
+  std::filesystem::path source;  // the file ReadPlaneMap read it from (for messages); not written
 };
 
 // Throws InputError naming the file (and the plane index) on a malformed document.

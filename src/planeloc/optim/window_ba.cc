@@ -96,9 +96,9 @@ WindowState BuildState(const StereoCamera& camera, const WindowProblem& problem,
     if (p.plane_id)
       plane = &problem.planes[Lookup(plane_index, *p.plane_id, "plane")].plane_in_world;
     s.point_plane.push_back(plane);
-    s.plane_costs.emplace_back(use_planes && plane != nullptr
-                                   ? PointToPlaneError::Create(*plane, options.plane_sigma)
-                                   : nullptr);
+    const double sigma = p.plane_sigma > 0 ? p.plane_sigma : options.plane_sigma;
+    s.plane_costs.emplace_back(
+        use_planes && plane != nullptr ? PointToPlaneError::Create(*plane, sigma) : nullptr);
   }
   const PinholeStereoIntrinsics k = PinholeStereoIntrinsics::From(camera);
   for (const WindowObservation& o : problem.observations) {

@@ -1,5 +1,6 @@
 // Sliding-window bundle adjustment with optional LiDAR point-to-plane constraints:
-//   E = lambda * sum rho(|r_reproj|^2_info) + (1 - lambda) * sum rho(|r_plane / sigma_plane|^2)
+//   E = lambda * sum rho(|r_reproj|^2_info) + (1 - lambda) * sum rho(|r_plane / sigma_i|^2)
+// (sigma_i per point, WindowPoint::plane_sigma, else the global plane_sigma)
 // over the window's keyframe poses (cam_from_world) and the points they observe. Keyframes that
 // observe window points but are outside the window are held fixed (anchors), like ORB-SLAM2's
 // local BA. A point with a `plane_id` gets one point-to-plane residual against that map plane.
@@ -27,6 +28,9 @@ struct WindowPoint {
   int id = 0;
   Eigen::Vector3d point_in_world = Eigen::Vector3d::Zero();
   std::optional<int> plane_id;  // id of a WindowPlane this point lies on
+  // Metres: sigma of its point-to-plane residual (point and plane uncertainty along the normal);
+  // 0: WindowBaOptions::plane_sigma.
+  double plane_sigma = 0;
 };
 
 struct WindowObservation {
@@ -53,8 +57,11 @@ struct WindowBaOptions {
   // lambda = 0 is rejected by Check(): without reprojection residuals the poses are unobserved.
   // Only lambda / (1 - lambda) matters for the minimizer (see docs/optim.md).
   double lambda = 1.0;
-  double plane_sigma = 0.05;  // metres: point-to-plane residual whitening
-  double plane_huber = 0.2;   // metres: robust threshold of the plane term
+  // Metres: point-to-plane whitening of the points without their own WindowPoint::plane_sigma.
+  double plane_sigma = 0.05;
+  // Metres at plane_sigma: the plane term's Huber threshold is plane_huber / plane_sigma in
+  // whitened units (standard deviations) for every point, whatever its own sigma.
+  double plane_huber = 0.2;
   // Metres: after the first round, a point farther than this from its plane loses its plane
   // residual for the second round (wrong point-plane association).
   double plane_outlier_distance = 0.5;

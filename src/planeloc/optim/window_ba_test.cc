@@ -198,6 +198,31 @@ TEST(SolveWindowBa, LambdaActsAsPlaneSigmaRatio) {
   EXPECT_NEAR(ra.final_cost / rb.final_cost, 0.8 / 0.5, 0.01 * 0.8 / 0.5);
 }
 
+// Per-point sigma (issue 10): every point given sigma 0.1 m solves the same problem as the
+// global plane_sigma 0.1 m (Huber 0.4 m there, so that both kernels sit at 4 whitened units),
+// and differs from the global 0.05 m the points would get without their own.
+TEST(SolveWindowBa, PerPointPlaneSigmaWhitensThePlaneTerm) {
+  test::WindowScene s = test::MakeWindowScene({.seed = 10});
+  WindowBaOptions global;
+  global.lambda = 0.5;
+  global.plane_sigma = 0.1;
+  global.plane_huber = 0.4;
+  const WindowBaResult reference = SolveWindowBa(s.camera, s.problem, global);
+  WindowBaOptions options;
+  options.lambda = 0.5;  // plane_sigma 0.05, plane_huber 0.2: Huber at 4 sigma
+  const WindowBaResult without = SolveWindowBa(s.camera, s.problem, options);
+  for (WindowPoint& p : s.problem.points) p.plane_sigma = 0.1;
+  const WindowBaResult per_point = SolveWindowBa(s.camera, s.problem, options);
+  ASSERT_TRUE(reference.usable && without.usable && per_point.usable);
+  double differs = 0;
+  for (const auto& [id, x] : reference.point_in_world) {
+    EXPECT_LT((per_point.point_in_world.at(id) - x).norm(), 1e-9) << id;
+    differs = std::max(differs, (without.point_in_world.at(id) - x).norm());
+  }
+  EXPECT_GT(differs, 1e-4);
+  EXPECT_NEAR(per_point.final_cost, reference.final_cost, 1e-9 * reference.final_cost);
+}
+
 TEST(SolveWindowBa, AllKeyframesFreeIsStillUsable) {
   test::WindowScene s = test::MakeWindowScene({.seed = 6});
   for (WindowKeyframe& kf : s.problem.keyframes) kf.fixed = false;

@@ -72,8 +72,26 @@ bool IsTurning(const SparseMap& map, int keyframe_id, const TrackerOptions& opti
   return angle > options.ba_turn_angle_deg * std::numbers::pi / 180.0;
 }
 
+std::optional<PointEstimate> VisualPointEstimate(const SparseMap& map, const MapPoint& point,
+                                                 const StereoCamera& camera,
+                                                 const TrackerOptions& options) {
+  std::vector<PointEstimate> estimates;
+  for (const auto& [kf_id, keypoint] : point.observations) {
+    const Keyframe& kf = map.keyframe(kf_id);
+    const double u_right = kf.features.u_right[keypoint];
+    if (u_right < 0) continue;
+    const cv::KeyPoint& kp = kf.features.left.keypoints[keypoint];
+    const double sigma = options.planes.pixel_sigma * std::pow(map.scale().scale_factor, kp.octave);
+    if (auto e = StereoPointEstimate(camera, kf.cam_from_world, kp.pt.x, kp.pt.y, u_right, sigma)) {
+      estimates.push_back(*e);
+    }
+  }
+  if (estimates.empty()) return std::nullopt;
+  return FusePointEstimates(estimates);
+}
+
 WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const TrackerOptions& options,
-                               const PlaneAssociator* planes) {
+                               const StereoCamera& camera, PlaneAssociator* planes) {
   const int window_size = IsTurning(map, keyframe_id, options) ? options.ba_window_keyframes_turn
                                                                : options.ba_window_keyframes;
   std::vector<int> local = map.BestCovisible(keyframe_id, window_size - 1);
@@ -130,12 +148,22 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
 
   const double scale2 = map.scale().scale_factor * map.scale().scale_factor;
   std::set<int> plane_ids;
+  int associations = 0;
   for (int id : point_ids) {
     const MapPoint& point = map.point(id);
-    std::optional<int> plane_id;
-    if (planes) plane_id = planes->Associate(point.point_in_world);
-    if (plane_id) plane_ids.insert(*plane_id);
-    problem.points.push_back({id, point.point_in_world, plane_id});
+    WindowPoint window_point{id, point.point_in_world, std::nullopt};
+    if (planes) {
+      // Decided from the point's stereo measurements, not from its BA position (hysteresis).
+      if (const auto estimate = VisualPointEstimate(map, point, camera, options)) {
+        planes->Record(id, *estimate);
+        if (const auto association = planes->Associate(*estimate)) {
+          window_point.plane_id = association->plane_id;
+          window_point.plane_sigma = association->sigma;
+          ++associations;
+        }
+      }
+    }
+    problem.points.push_back(window_point);
     for (const auto& [kf_id, keypoint] : point.observations) {
       if (!local_set.count(kf_id) && !fixed.count(kf_id)) continue;
       const Keyframe& kf = map.keyframe(kf_id);
@@ -148,6 +176,19 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
       obs.u_right = kf.features.u_right[keypoint];
       obs.information = 1.0 / std::pow(scale2, kp.octave);
       problem.observations.push_back(obs);
+    }
+  }
+  if (planes) {
+    planes->UpdateHealth(associations);
+    // Staged activation: too few associations for the plane term to be trusted, plain BA.
+    const bool active = associations >= options.planes.min_associations;
+    for (WindowPoint& p : problem.points) {
+      if (!active) {
+        p.plane_id.reset();
+        p.plane_sigma = 0;
+      } else if (p.plane_id) {
+        plane_ids.insert(*p.plane_id);
+      }
     }
   }
   for (const int plane_id : plane_ids) {

@@ -3,6 +3,7 @@
 // window (built here, solved by optim/window_ba, applied back by id).
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "planeloc/geometry/camera.h"
@@ -31,10 +32,20 @@ int CullRecentPoints(SparseMap& map, std::vector<int>& recent_point_ids, int cur
 // first keyframe of the map (the given initial pose) is always fixed, and the oldest window
 // keyframe is fixed when nothing else is (gauge freedom). The window has
 // options.ba_window_keyframes keyframes, options.ba_window_keyframes_turn at a turn (see
-// IsTurning). With `planes`, every window point that lies on a LiDAR plane gets its plane id
-// and the planes used are added to the problem.
+// IsTurning). With `planes`: every window point whose visual estimate (VisualPointEstimate)
+// passes the plane gate gets its plane id and the gate's sigma, the planes used are added to
+// the problem, the planes' bias statistics are updated (PlaneAssociator::Record, UpdateHealth),
+// and a window with fewer than options.planes.min_associations associated points gets none
+// (staged activation: plain visual BA).
 WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const TrackerOptions& options,
-                               const PlaneAssociator* planes = nullptr);
+                               const StereoCamera& camera, PlaneAssociator* planes = nullptr);
+
+// The point's position from its stereo observations only (each back-projected from its
+// keyframe's current pose, fused by information; keypoint noise options.planes.pixel_sigma
+// times scale_factor^octave). std::nullopt when no observation has a stereo match.
+std::optional<PointEstimate> VisualPointEstimate(const SparseMap& map, const MapPoint& point,
+                                                 const StereoCamera& camera,
+                                                 const TrackerOptions& options);
 
 // True when the heading changed by more than options.ba_turn_angle_deg between `keyframe_id`
 // and the keyframe options.ba_window_keyframes keyframes before it (or the oldest one).

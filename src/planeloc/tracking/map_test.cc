@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numbers>
 #include <random>
 
@@ -169,7 +170,7 @@ TEST(LocalMappingTest, WindowFixesAnchorsAndGauge) {
     }
   }
   for (int k : kfs) map.UpdateConnections(k);
-  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options);
+  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options, camera);
   // Window: kf 3 and its best covisible (a tie at 15 shared points: the lowest id, kf 0); all
   // others observing its points are fixed anchors; keyframe 0 (the initial pose) stays fixed.
   std::map<int, bool> fixed;
@@ -246,17 +247,21 @@ TEST(LocalMappingTest, WindowTagsPlanePointsAndGrowsAtTurns) {
     return free;
   };
   EXPECT_FALSE(IsTurning(map, kfs[3], options));
-  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options)), 1);  // kf 0 is fixed
+  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options, camera)), 1);  // kf 0 is fixed
   // Keyframe 3 turned by 20 degrees: one more keyframe joins the window.
   map.SetKeyframePose(kfs[3],
                       Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(20.0 * std::numbers::pi / 180.0,
                                                                    Eigen::Vector3d::UnitY())),
                               Eigen::Vector3d::Zero()));
   EXPECT_TRUE(IsTurning(map, kfs[3], options));
-  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options)), 2);
+  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options, camera)), 2);
 
+  // Keyframe 3 back where its (unchanged) stereo observations were made: the association below
+  // uses them.
+  map.SetKeyframePose(kfs[3], Rigid3d::Identity());
   // A plane z = z0 through point 5 (the world is keyframe 0's camera frame) claims the points
-  // within 15 cm of it.
+  // that pass its gate: within the 15 cm cap and within sqrt(chi2) sigma, where along z
+  // sigma = sqrt((z^2 / (fx b) * sqrt(2) * pixel_sigma)^2 + map_sigma^2) (exact stereo here).
   const double z0 = points[5].z();
   PlaneMap plane_map;
   MapPlane wall;
@@ -265,18 +270,56 @@ TEST(LocalMappingTest, WindowTagsPlanePointsAndGrowsAtTurns) {
   wall.area = 400;
   wall.polygon = {{-20, -20, z0}, {20, -20, z0}, {20, 20, z0}, {-20, 20, z0}};
   plane_map.planes.push_back(wall);
-  const PlaneAssociator planes(plane_map, options.planes);
-  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options, &planes);
+  options.planes.min_associations = 1;
+  PlaneAssociator planes(plane_map, options.planes);
+  auto gated = [&](const Eigen::Vector3d& p) {
+    const double sigma_z =
+        p.z() * p.z() / camera.BaselineTimesFx() * std::sqrt(2.0) * options.planes.pixel_sigma;
+    const double sigma = std::hypot(sigma_z, options.planes.map_sigma);
+    const double s = std::abs(p.z() - z0);
+    return s <= options.planes.max_distance && s * s <= options.planes.gate_chi2 * sigma * sigma;
+  };
+  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options, camera, &planes);
   int on_plane = 0;
   for (const WindowPoint& p : problem.points) {
-    const bool near = std::abs(p.point_in_world.z() - z0) <= options.planes.max_distance;
+    const bool near = gated(p.point_in_world);
     EXPECT_EQ(p.plane_id.has_value(), near) << p.point_in_world.transpose();
     on_plane += near;
   }
   ASSERT_GT(on_plane, 0);
   ASSERT_EQ(problem.planes.size(), 1u);
   EXPECT_EQ(problem.planes[0].id, 42);
-  EXPECT_EQ(BuildLocalWindow(map, kfs[3], options).planes.size(), 0u);
+  EXPECT_EQ(BuildLocalWindow(map, kfs[3], options, camera).planes.size(), 0u);
+
+  // Staged activation: fewer associations than min_associations, plain visual BA.
+  options.planes.min_associations = on_plane + 1;
+  const WindowProblem staged = BuildLocalWindow(map, kfs[3], options, camera, &planes);
+  EXPECT_TRUE(staged.planes.empty());
+  for (const WindowPoint& p : staged.points) EXPECT_FALSE(p.plane_id.has_value());
+
+  // Hysteresis: a point that a BA pulled onto the plane, while its stereo says it is 30 cm off
+  // (and the gate is tighter there), stays off it: the decision uses the stereo estimate.
+  options.planes.min_associations = 1;
+  int moved = -1;
+  for (int id : created) {
+    const Eigen::Vector3d p = map.point(id).point_in_world;
+    if (std::abs(p.z() - z0) > 0.3 && !gated(p)) {
+      moved = id;
+      break;
+    }
+  }
+  ASSERT_GE(moved, 0);
+  Eigen::Vector3d pulled = map.point(moved).point_in_world;
+  pulled.z() = z0;
+  map.SetPointPosition(moved, pulled);
+  ASSERT_EQ(planes.Associate(pulled), 42);  // by its BA position it would be on the plane
+  bool seen = false;
+  for (const WindowPoint& p : BuildLocalWindow(map, kfs[3], options, camera, &planes).points) {
+    if (p.id != moved) continue;
+    seen = true;
+    EXPECT_FALSE(p.plane_id.has_value());
+  }
+  EXPECT_TRUE(seen);
 }
 
 }  // namespace

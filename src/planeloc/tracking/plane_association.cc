@@ -1,5 +1,7 @@
 #include "planeloc/tracking/plane_association.h"
 
+#include <spdlog/spdlog.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -37,12 +39,82 @@ void PlaneAssociationOptions::Check() const {
     throw OptionsError("PlaneAssociationOptions.min_plane_area must be >= 0 (m^2)");
   }
   if (!(cell_size > 0.0)) throw OptionsError("PlaneAssociationOptions.cell_size must be > 0 (m)");
+  if (!(gate_chi2 > 0.0)) throw OptionsError("PlaneAssociationOptions.gate_chi2 must be > 0");
+  if (!(map_sigma >= 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.map_sigma must be >= 0 (m)");
+  }
+  if (!(pixel_sigma > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.pixel_sigma must be > 0 (px)");
+  }
+  if (min_associations < 0) {
+    throw OptionsError("PlaneAssociationOptions.min_associations must be >= 0");
+  }
+  if (!(stats_band > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.stats_band must be > 0 (m)");
+  }
+  if (!(stats_max_point_sigma > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.stats_max_point_sigma must be > 0 (m)");
+  }
+  if (!(bias_min >= 0.0)) throw OptionsError("PlaneAssociationOptions.bias_min must be >= 0 (m)");
+  if (!(bias_significance > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.bias_significance must be > 0");
+  }
+  if (bias_min_points < 1) {
+    throw OptionsError("PlaneAssociationOptions.bias_min_points must be >= 1");
+  }
+  if (warn_after_windows < 1) {
+    throw OptionsError("PlaneAssociationOptions.warn_after_windows must be >= 1");
+  }
+}
+
+std::optional<PointEstimate> StereoPointEstimate(const StereoCamera& camera,
+                                                 const Rigid3d& cam_from_world, double u_left,
+                                                 double v, double u_right, double pixel_sigma) {
+  const double disparity = u_left - u_right;
+  if (!(disparity > 0.0) || u_right < 0.0) return std::nullopt;
+  const double b = camera.baseline, fx = camera.fx, fy = camera.fy;
+  const double du = u_left - camera.cx, dv = v - camera.cy;
+  const Eigen::Vector3d in_cam(du * b / disparity, dv * fx * b / (fy * disparity),
+                               fx * b / disparity);
+  Eigen::Matrix3d jacobian;  // d(x, y, z) / d(u, v, disparity)
+  const double d2 = disparity * disparity;
+  jacobian << b / disparity, 0, -du * b / d2,                  //
+      0, fx * b / (fy * disparity), -dv * fx * b / (fy * d2),  //
+      0, 0, -fx * b / d2;
+  const double s2 = pixel_sigma * pixel_sigma;
+  const Eigen::Vector3d measurement_variance(s2, s2, 2.0 * s2);
+  const Eigen::Matrix3d in_cam_covariance =
+      jacobian * measurement_variance.asDiagonal() * jacobian.transpose();
+  const Rigid3d world_from_cam = cam_from_world.Inverse();
+  const Eigen::Matrix3d rotation = world_from_cam.rotation.toRotationMatrix();
+  PointEstimate estimate;
+  estimate.point_in_map = world_from_cam * in_cam;
+  estimate.covariance = rotation * in_cam_covariance * rotation.transpose();
+  return estimate;
+}
+
+PointEstimate FusePointEstimates(const std::vector<PointEstimate>& estimates) {
+  if (estimates.empty()) throw std::invalid_argument("FusePointEstimates: no estimate");
+  if (estimates.size() == 1) return estimates.front();
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+  for (const PointEstimate& e : estimates) {
+    const Eigen::Matrix3d inverse = e.covariance.inverse();
+    information += inverse;
+    weighted += inverse * e.point_in_map;
+  }
+  PointEstimate fused;
+  fused.covariance = information.inverse();
+  fused.point_in_map = fused.covariance * weighted;
+  return fused;
 }
 
 PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationOptions& options)
-    : options_(options) {
+    : options_(options),
+      map_name_(planes.source.empty() ? std::string("plane map") : planes.source.string()) {
   options_.Check();
-  const double inflate = options_.polygon_margin + options_.max_distance;
+  const double inflate =
+      options_.polygon_margin + std::max(options_.max_distance, options_.stats_band);
   for (const MapPlane& plane : planes.planes) {
     if (plane.area > 0.0 && plane.area < options_.min_plane_area) continue;
     FlatPlane flat;
@@ -97,32 +169,156 @@ bool PlaneAssociator::InsideOutline(const FlatPlane& flat, const Eigen::Vector3d
   return nearest2 <= options_.polygon_margin * options_.polygon_margin;
 }
 
+template <typename F>
+void PlaneAssociator::ForCandidates(const Eigen::Vector3d& point_in_map, F f) const {
+  for (const std::size_t index : unbounded_) {
+    if (!f(index)) return;
+  }
+  const auto cell = cells_.find(CellKey(point_in_map));
+  if (cell == cells_.end()) return;
+  for (const std::size_t index : cell->second) {
+    if (!f(index)) return;
+  }
+}
+
 std::optional<int> PlaneAssociator::Associate(const Eigen::Vector3d& point_in_map) const {
   if (!point_in_map.allFinite()) return std::nullopt;
   std::optional<int> found;
-  auto test = [&](std::size_t index) {
+  bool ambiguous = false;
+  ForCandidates(point_in_map, [&](std::size_t index) {
     const FlatPlane& flat = planes_[index];
     if (std::abs(flat.plane.plane_in_map.SignedDistance(point_in_map)) > options_.max_distance) {
       return true;
     }
     if (!InsideOutline(flat, point_in_map)) return true;
     if (found && *found != flat.plane.id) {
-      found.reset();
-      return false;  // ambiguous: two planes claim the point
+      ambiguous = true;  // two planes claim the point
+      return false;
     }
     found = flat.plane.id;
     return true;
-  };
-  for (const std::size_t index : unbounded_) {
-    if (!test(index)) return std::nullopt;
-  }
-  const auto cell = cells_.find(CellKey(point_in_map));
-  if (cell != cells_.end()) {
-    for (const std::size_t index : cell->second) {
-      if (!test(index)) return std::nullopt;
+  });
+  if (ambiguous) return std::nullopt;
+  return found;
+}
+
+double PlaneAssociator::Variance(const FlatPlane& flat) const {
+  return flat.plane.rms * flat.plane.rms + options_.map_sigma * options_.map_sigma + flat.bias2;
+}
+
+std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& estimate) const {
+  const Eigen::Vector3d& x = estimate.point_in_map;
+  if (!x.allFinite() || !estimate.covariance.allFinite()) return std::nullopt;
+  std::optional<PlaneAssociation> found;
+  bool ambiguous = false;
+  ForCandidates(x, [&](std::size_t index) {
+    const FlatPlane& flat = planes_[index];
+    if (flat.health.disabled) return true;
+    const Plane& plane = flat.plane.plane_in_map;
+    const double s = plane.SignedDistance(x);
+    if (std::abs(s) > options_.max_distance) return true;
+    const double variance = plane.normal.dot(estimate.covariance * plane.normal) + Variance(flat);
+    if (s * s > options_.gate_chi2 * variance) return true;
+    if (!InsideOutline(flat, x)) return true;
+    if (found && found->plane_id != flat.plane.id) {
+      ambiguous = true;
+      return false;
+    }
+    found = PlaneAssociation{flat.plane.id, s, std::sqrt(variance)};
+    return true;
+  });
+  if (ambiguous) return std::nullopt;
+  return found;
+}
+
+void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
+  const Eigen::Vector3d& x = estimate.point_in_map;
+  if (!x.allFinite() || !estimate.covariance.allFinite()) return;
+  std::optional<std::size_t> found;
+  double found_distance = 0;
+  bool ambiguous = false;
+  ForCandidates(x, [&](std::size_t index) {
+    const FlatPlane& flat = planes_[index];
+    if (flat.health.disabled) return true;
+    const Plane& plane = flat.plane.plane_in_map;
+    const double s = plane.SignedDistance(x);
+    if (std::abs(s) > options_.stats_band) return true;
+    const double point_variance = plane.normal.dot(estimate.covariance * plane.normal);
+    if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) {
+      return true;
+    }
+    if (!InsideOutline(flat, x)) return true;
+    if (found && *found != index) {
+      ambiguous = true;
+      return false;
+    }
+    found = index;
+    found_distance = s;
+    return true;
+  });
+  if (ambiguous || !found) return;
+  FlatPlane& flat = planes_[*found];
+  flat.distance_by_point[point_id] = found_distance;
+  flat.touched = true;
+}
+
+int PlaneAssociator::UpdateHealth(int associations) {
+  ++windows_;
+  total_associations_ += associations;
+  int disabled_now = 0, judged = 0;
+  std::vector<double> values;
+  for (FlatPlane& flat : planes_) {
+    if (flat.health.points >= options_.bias_min_points) ++judged;
+    if (!flat.touched || flat.health.disabled) continue;
+    flat.touched = false;
+    values.clear();
+    for (const auto& [id, s] : flat.distance_by_point) values.push_back(s);
+    const std::size_t n = values.size();
+    auto mid = values.begin() + static_cast<std::ptrdiff_t>(n / 2);
+    std::nth_element(values.begin(), mid, values.end());
+    const double median = *mid;
+    for (double& value : values) value = std::abs(value - median);
+    std::nth_element(values.begin(), mid, values.end());
+    // Robust sigma from the MAD (Gaussian: 1.4826), standard error of a median ~1.2533 sigma /
+    // sqrt(n); 5 mm floor: plane maps and stereo are not better than that.
+    const double sigma = std::max(1.4826 * *mid, 0.005);
+    PlaneHealth& health = flat.health;
+    const bool was_judged = health.points >= options_.bias_min_points;
+    health.points = static_cast<int>(n);
+    health.median = median;
+    health.standard_error = 1.2533 * sigma / std::sqrt(static_cast<double>(n));
+    if (!was_judged && health.points >= options_.bias_min_points) ++judged;
+    // Down-weighting: from half the points needed to disable, the bias joins the plane sigma.
+    flat.bias2 = 2 * health.points >= options_.bias_min_points ? median * median : 0.0;
+    if (health.points >= options_.bias_min_points && std::abs(median) > options_.bias_min &&
+        std::abs(median) > options_.bias_significance * health.standard_error) {
+      health.disabled = true;
+      flat.distance_by_point.clear();
+      ++num_disabled_;
+      ++disabled_now;
+      spdlog::warn(
+          "{}: plane {} disabled for this run: its {} points sit {:+.3f} m off it (median signed "
+          "distance of their stereo estimates, standard error {:.3f} m); the map is wrong there",
+          map_name_, flat.plane.id, health.points, median, health.standard_error);
     }
   }
-  return found;
+  if (!warned_no_association_ && windows_ >= options_.warn_after_windows &&
+      total_associations_ == 0 && !planes_.empty()) {
+    warned_no_association_ = true;
+    spdlog::warn(
+        "{}: no map point passed the association gate of any plane in the first {} keyframes; "
+        "the plane map is probably in another frame than the trajectory (check the initial pose "
+        "and the map's frame) or of another place",
+        map_name_, windows_);
+  }
+  if (!warned_most_disabled_ && judged >= 3 && 2 * num_disabled_ > judged) {
+    warned_most_disabled_ = true;
+    spdlog::warn(
+        "{}: {} of the {} planes with enough points are disabled (their points sit off them): "
+        "the plane map is probably wrong (another frame, a bad registration, an outdated map)",
+        map_name_, num_disabled_, judged);
+  }
+  return disabled_now;
 }
 
 const MapPlane& PlaneAssociator::plane(int id) const {
@@ -131,6 +327,22 @@ const MapPlane& PlaneAssociator::plane(int id) const {
     throw std::out_of_range("PlaneAssociator: no plane with id " + std::to_string(id));
   }
   return planes_[it->second].plane;
+}
+
+const PlaneHealth& PlaneAssociator::health(int id) const {
+  const auto it = index_by_id_.find(id);
+  if (it == index_by_id_.end()) {
+    throw std::out_of_range("PlaneAssociator: no plane with id " + std::to_string(id));
+  }
+  return planes_[it->second].health;
+}
+
+double PlaneAssociator::PlaneSigma(int id) const {
+  const auto it = index_by_id_.find(id);
+  if (it == index_by_id_.end()) {
+    throw std::out_of_range("PlaneAssociator: no plane with id " + std::to_string(id));
+  }
+  return std::sqrt(Variance(planes_[it->second]));
 }
 
 }  // namespace planeloc

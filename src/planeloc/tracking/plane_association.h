@@ -2,58 +2,163 @@
 // gives a point its point-to-plane residual in the window BA (the paper's points p on a plane vs
 // points q off planes).
 //
-// A point is on plane k when it is within `max_distance` of the infinite plane AND its projection
-// onto the plane lies inside the plane's outline grown by `polygon_margin` (the outline is where
-// the LiDAR saw the surface: the infinite extension of a facade runs through the street behind it).
-// A point within `max_distance` of two planes (a crease, a kerb) is not associated: the wrong
+// A point is tested with its visual-only estimate (PointEstimate: the stereo observations of
+// the point, each back-projected from its keyframe, fused; the BA moves the keyframes but not
+// these measurements, so a point is not kept on a plane only because the plane pulled it there).
+// It is on plane k when
+//   - its projection onto the plane lies inside the plane's outline grown by `polygon_margin`
+//     (the outline is where the LiDAR saw the surface: the infinite extension of a facade runs
+//     through the street behind it),
+//   - its signed distance s passes the chi-square gate s^2 <= gate_chi2 * sigma^2 with
+//     sigma^2 = n^T Sigma_point n + sigma_plane^2, sigma_plane^2 = rms^2 + map_sigma^2 + bias^2
+//     (the plane's fitted rms from planes.json, the map's registration error, and the bias its
+//     points showed so far, see below),
+//   - and |s| <= max_distance (a hard outer cap whatever the uncertainty).
+// A point that passes the gate of two planes (a crease, a kerb) is not associated: the wrong
 // choice would pull it across the crease, and the BA loses little by leaving it visual only.
+//
+// A map can be wrong (registration errors, a city that changed). Every plane keeps the signed
+// distances of the points around it (|s| <= stats_band, precise enough, latest value per point):
+// when their median sits off the plane by more than bias_min and bias_significance standard
+// errors, over at least bias_min_points points, the plane is disabled for the run (logged once);
+// before that its bias already inflates its sigma (down-weighting).
 // Planes are found through a coarse 3-D grid of their inflated bounding boxes, so a query costs a
 // few polygon tests whatever the size of the map.
 #pragma once
 
 #include <Eigen/Core>
+#include <map>
 #include <optional>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "planeloc/geometry/camera.h"
+#include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
 
 namespace planeloc {
 
 struct PlaneAssociationOptions {
-  double max_distance = 0.15;   // metres from the plane (stereo depth noise + map noise)
+  double max_distance = 0.15;   // metres: hard outer cap of the gate
   double polygon_margin = 0.5;  // metres outside the outline still accepted
   double min_plane_area = 8.0;  // m^2: smaller planes of the map are not used
   double cell_size = 5.0;       // metres, lookup grid
+  // Chi-square gate (1 DoF) on the signed distance; 6.635 = 99 %.
+  double gate_chi2 = 6.635;
+  // Metres: registration error of the map, added (in quadrature) to each plane's fitted rms
+  // (Planes.mapSigma). 0.05 = the former global LocalBA.planeSigma; 0.03 was measured worse.
+  double map_sigma = 0.05;
+  // Pixels: keypoint position noise at pyramid level 0 (times scale_factor^octave above); the
+  // disparity has sqrt(2) times that (Planes.pixelSigma). 0.4: on the simulator's clean maps the
+  // median |s| / sigma_n of the points was 0.26-0.32 at 1 px (0.674 when calibrated).
+  double pixel_sigma = 0.4;
+  // Staged activation: a window with fewer associated points is solved as plain visual BA
+  // (Planes.minAssociations).
+  int min_associations = 30;
+  // A map that can be wrong (Planes.bias*): statistics over points within stats_band metres
+  // (inside the outline) whose own sigma along the normal is at most stats_max_point_sigma.
+  // Metres: 0.5 let points of other surfaces near small planes dominate the median (a clean
+  // plane at +0.38 m on the tiny preset); 0.35 still sees planes moved by 0.3 m.
+  double stats_band = 0.35;
+  double stats_max_point_sigma = 0.15;  // metres
+  // Metres: a smaller bias never disables a plane (it only down-weights it). Clean simulator
+  // maps showed planes with biases of 0.06-0.14 m whose disabling cost accuracy.
+  double bias_min = 0.1;
+  double bias_significance = 4.0;  // |median| > this many standard errors
+  int bias_min_points = 40;        // distinct points before a plane can be disabled
+  // Planes considered (with at least bias_min_points) before "most planes disabled" or "no
+  // plane ever passes the gate" is reported as a likely wrong map.
+  int warn_after_windows = 10;
 
   void Check() const;  // throws OptionsError naming the field
+};
+
+// A point position with its covariance (world = map frame), from stereo measurements only.
+struct PointEstimate {
+  Eigen::Vector3d point_in_map = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // m^2
+};
+
+// One stereo observation (left pixel (u, v), right column u_right > 0 disparity away) of a
+// keyframe at `cam_from_world`, back-projected, with the covariance of (u, v, disparity)
+// = diag(s^2, s^2, 2 s^2), s = pixel_sigma, propagated through x = (u - cx) b / disp,
+// y = (v - cy) fx b / (fy disp), z = fx b / disp (so sigma_z = z^2 / (fx b) * sqrt(2) s) and
+// rotated into the world. std::nullopt for a disparity <= 0.
+std::optional<PointEstimate> StereoPointEstimate(const StereoCamera& camera,
+                                                 const Rigid3d& cam_from_world, double u_left,
+                                                 double v, double u_right, double pixel_sigma);
+// Information-weighted fusion of independent estimates (at least one).
+PointEstimate FusePointEstimates(const std::vector<PointEstimate>& estimates);
+
+struct PlaneAssociation {
+  int plane_id = 0;
+  double signed_distance = 0;  // metres, of the estimate
+  double sigma = 0;            // metres: the gate's sigma, also the BA residual's
+};
+
+// Per plane: statistics of its points' signed distances (the visual estimates).
+struct PlaneHealth {
+  int points = 0;             // distinct points recorded
+  double median = 0;          // metres, signed
+  double standard_error = 0;  // metres, of the median (robust, from the MAD)
+  bool disabled = false;
 };
 
 class PlaneAssociator {
  public:
   // Keeps the planes with at least min_plane_area (all of them when their area is unknown, 0).
+  // Warnings name the map by planes.source (the planes.json path) when set.
   PlaneAssociator(const PlaneMap& planes, const PlaneAssociationOptions& options);
 
-  // The id of the plane `point_in_map` lies on, if exactly one.
+  // The plane `point_in_map` lies on (fixed band max_distance), if exactly one. No statistics.
   std::optional<int> Associate(const Eigen::Vector3d& point_in_map) const;
+  // The plane the estimate lies on by the chi-square gate, if exactly one enabled plane.
+  std::optional<PlaneAssociation> Associate(const PointEstimate& estimate) const;
+
+  // Records the signed distance of point `point_id` from the enabled planes around it (for the
+  // bias statistics; the latest value per point counts). Call for every window point.
+  void Record(int point_id, const PointEstimate& estimate);
+  // Recomputes the statistics of the planes recorded since the last call, disables biased
+  // ones (spdlog warn each) and warns once when the map looks wrong. `associations`: points
+  // associated in the window just built. Returns the number of planes disabled by this call.
+  int UpdateHealth(int associations);
+
   // Plane by id (as in planes.json). Throws std::out_of_range for an unknown id.
   const MapPlane& plane(int id) const;
+  const PlaneHealth& health(int id) const;
+  // sqrt(rms^2 + map_sigma^2 + bias^2) of an enabled plane, metres.
+  double PlaneSigma(int id) const;
   std::size_t size() const { return planes_.size(); }
+  int num_disabled() const { return num_disabled_; }
 
  private:
   struct FlatPlane {
     MapPlane plane;
     Eigen::Vector3d u, v;               // in-plane basis
     std::vector<Eigen::Vector2d> ring;  // outline in (u, v); empty: unbounded
+    PlaneHealth health;
+    double bias2 = 0;                         // m^2, squared median once enough points
+    std::map<int, double> distance_by_point;  // point id -> latest signed distance
+    bool touched = false;
   };
   bool InsideOutline(const FlatPlane& flat, const Eigen::Vector3d& point) const;
   std::int64_t CellKey(const Eigen::Vector3d& point) const;
+  // Calls f(index) for the planes whose cells contain the point; stops when f returns false.
+  template <typename F>
+  void ForCandidates(const Eigen::Vector3d& point_in_map, F f) const;
+  double Variance(const FlatPlane& flat) const;
 
   PlaneAssociationOptions options_;
+  std::string map_name_;
   std::vector<FlatPlane> planes_;
   std::unordered_map<int, std::size_t> index_by_id_;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
   std::vector<std::size_t> unbounded_;  // planes without an outline: tested everywhere
+  int num_disabled_ = 0;
+  int windows_ = 0;
+  long long total_associations_ = 0;
+  bool warned_no_association_ = false, warned_most_disabled_ = false;
 };
 
 }  // namespace planeloc

@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "planeloc/tracking/test_camera.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
@@ -58,6 +63,145 @@ TEST(PlaneAssociationTest, FarFromTheOriginAndWithoutOutline) {
   const PlaneAssociator planes(map, PlaneAssociationOptions());
   EXPECT_EQ(planes.Associate(offset + Eigen::Vector3d(0, 1.6, 20)), 0);
   EXPECT_EQ(planes.Associate({12345, -7, -100.05}), 1);
+}
+
+// A wall facing the camera (world = camera frame: x right, y down, z forward) at depth z, large.
+PlaneMap WallAt(int id, double z) {
+  PlaneMap map;
+  map.planes.push_back(MakePlane(id, Plane(Eigen::Vector3d(0, 0, 1), -z),
+                                 {{-20, -20, z}, {20, -20, z}, {20, 20, z}, {-20, 20, z}}, 1600));
+  return map;
+}
+
+// The stereo estimate of a point on the optical axis at depth z, as the camera measures it.
+PointEstimate OnAxis(const StereoCamera& camera, double z, double pixel_sigma) {
+  const double disparity = camera.fx * camera.baseline / z;
+  return *StereoPointEstimate(camera, Rigid3d::Identity(), camera.cx, camera.cy,
+                              camera.cx - disparity, pixel_sigma);
+}
+
+TEST(PlaneAssociationTest, StereoCovarianceGrowsWithDepthSquared) {
+  const StereoCamera camera = testing::RoundStereoCamera();  // fx b = 350 px m
+  const PointEstimate e = OnAxis(camera, 10.0, 0.5);
+  EXPECT_NEAR(e.point_in_map.z(), 10.0, 1e-12);
+  // sigma_z = z^2 / (fx b) * sqrt(2) * 0.5 px = 100 / 350 * 0.7071 = 0.2020 m.
+  EXPECT_NEAR(std::sqrt(e.covariance(2, 2)), 100.0 / 350.0 * std::sqrt(2.0) * 0.5, 1e-12);
+  // Lateral: sigma_x = z / fx * 0.5 px = 7.14 mm (on the axis x does not depend on disparity).
+  EXPECT_NEAR(std::sqrt(e.covariance(0, 0)), 10.0 / 700.0 * 0.5, 1e-12);
+  // Rotated camera: the covariance turns with it, the depth axis is now world x.
+  const Rigid3d cam_from_world(
+      Eigen::Quaterniond(Eigen::AngleAxisd(-std::numbers::pi / 2, Eigen::Vector3d::UnitY())),
+      Eigen::Vector3d::Zero());
+  const double disparity = 35.0;
+  const PointEstimate turned = *StereoPointEstimate(camera, cam_from_world, camera.cx, camera.cy,
+                                                    camera.cx - disparity, 0.5);
+  EXPECT_NEAR(turned.covariance(0, 0), e.covariance(2, 2), 1e-12);
+  EXPECT_NEAR(turned.point_in_map.norm(), 10.0, 1e-12);
+  EXPECT_EQ(StereoPointEstimate(camera, Rigid3d::Identity(), 600, 185, 601, 0.5), std::nullopt);
+  // Two equal estimates fuse to half the covariance.
+  const PointEstimate fused = FusePointEstimates({e, e});
+  EXPECT_NEAR(fused.covariance(2, 2), 0.5 * e.covariance(2, 2), 1e-12);
+  EXPECT_NEAR((fused.point_in_map - e.point_in_map).norm(), 0.0, 1e-9);
+}
+
+// The gate at 3 m and at 8 m, 1 px keypoint noise, map sigma 3 cm, a hard cap out of the way:
+//   sigma(z) = sqrt((z^2 / 350 * sqrt(2))^2 + 0.03^2); gate half-width = sqrt(6.635) sigma.
+//   z = 3: sigma_z = 0.0364, sigma = 0.0471, half-width 0.121 m: a plane 15 or 30 cm off fails.
+//   z = 8: sigma_z = 0.2586, sigma = 0.2603, half-width 0.671 m: both pass.
+TEST(PlaneAssociationTest, ChiSquareGateFollowsTheDepthUncertainty) {
+  const StereoCamera camera = testing::RoundStereoCamera();
+  PlaneAssociationOptions options;
+  options.pixel_sigma = 1.0;
+  options.map_sigma = 0.03;
+  options.max_distance = 1.0;
+  auto sigma_at = [&](double z) {
+    return std::hypot(z * z / 350.0 * std::sqrt(2.0), options.map_sigma);
+  };
+  ASSERT_LT(std::sqrt(options.gate_chi2) * sigma_at(3.0), 0.15);
+  ASSERT_GT(std::sqrt(options.gate_chi2) * sigma_at(8.0), 0.30);
+  for (const double z : {3.0, 8.0}) {
+    const PointEstimate point = OnAxis(camera, z, options.pixel_sigma);
+    // The right plane, at the point's depth: accepted, with the gate's sigma.
+    const PlaneAssociator right(WallAt(4, z), options);
+    const auto association = right.Associate(point);
+    ASSERT_TRUE(association.has_value()) << z;
+    EXPECT_EQ(association->plane_id, 4);
+    EXPECT_NEAR(association->sigma, sigma_at(z), 1e-9);
+    EXPECT_NEAR(association->signed_distance, 0.0, 1e-9);
+    // Near misses, behind and in front.
+    for (const double off : {0.15, -0.15, 0.30, -0.30}) {
+      const PlaneAssociator wrong(WallAt(4, z + off), options);
+      EXPECT_EQ(wrong.Associate(point).has_value(), z > 5.0) << "z " << z << " off " << off;
+    }
+  }
+  // The hard cap holds whatever the uncertainty: at 8 m, 30 cm off fails with a 15 cm cap.
+  options.max_distance = 0.15;
+  EXPECT_FALSE(PlaneAssociator(WallAt(4, 8.3), options)
+                   .Associate(OnAxis(camera, 8.0, options.pixel_sigma))
+                   .has_value());
+  // The plane's fitted rms enters the gate: 13 cm off at 3 m passes with rms 5 cm (half-width 0.177
+  // m).
+  PlaneMap noisy = WallAt(4, 3.13);
+  noisy.planes[0].rms = 0.05;
+  EXPECT_FALSE(PlaneAssociator(WallAt(4, 3.13), options)
+                   .Associate(OnAxis(camera, 3.0, options.pixel_sigma))
+                   .has_value());
+  EXPECT_TRUE(PlaneAssociator(noisy, options).Associate(OnAxis(camera, 3.0, options.pixel_sigma)));
+}
+
+// Three walls side by side; the middle one's points sit 20 cm in front of it (a moved plane).
+// Recorded in rounds of 10 points (one round per BA), it is down-weighted once 20 points are in
+// and disabled once 40 are; the correct walls stay enabled and keep their sigma.
+TEST(PlaneAssociationTest, BiasedPlaneIsDisabledAfterEnoughBas) {
+  PlaneMap map;
+  for (int k = 0; k < 3; ++k) {
+    const double x0 = 10.0 * k;
+    map.planes.push_back(MakePlane(k, Plane(Eigen::Vector3d(0, 0, 1), -10.0),
+                                   {{x0, 0, 10}, {x0 + 9, 0, 10}, {x0 + 9, 5, 10}, {x0, 5, 10}},
+                                   45));
+  }
+  PlaneAssociationOptions options;
+  options.map_sigma = 0.03;
+  options.bias_min = 0.06;
+  options.bias_significance = 4.0;
+  options.bias_min_points = 40;
+  PlaneAssociator planes(map, options);
+  const double sigma0 = planes.PlaneSigma(1);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.03);
+  std::uniform_real_distribution<double> along(0.5, 8.5), up(0.5, 4.5);
+  int id = 0;
+  auto point = [&](int plane, double offset) {
+    PointEstimate e;
+    e.point_in_map =
+        Eigen::Vector3d(10.0 * plane + along(rng), up(rng), 10.0 + offset + noise(rng));
+    e.covariance = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
+    return e;
+  };
+  for (int round = 0; round < 6; ++round) {
+    for (int i = 0; i < 10; ++i) {
+      for (int plane = 0; plane < 3; ++plane) {
+        planes.Record(id++, point(plane, plane == 1 ? 0.2 : 0.0));
+      }
+    }
+    const int disabled = planes.UpdateHealth(30);
+    EXPECT_EQ(disabled, round == 3 ? 1 : 0) << "round " << round;
+    EXPECT_EQ(planes.health(1).disabled, round >= 3) << "round " << round;
+    if (round == 1 || round == 2) {
+      EXPECT_GT(planes.PlaneSigma(1), 0.19);  // down-weighted
+    }
+    for (int good : {0, 2}) {
+      EXPECT_FALSE(planes.health(good).disabled);
+      EXPECT_LT(std::abs(planes.health(good).median), 0.02);
+      EXPECT_LT(planes.PlaneSigma(good), sigma0 + 0.005);
+    }
+  }
+  EXPECT_EQ(planes.num_disabled(), 1);
+  EXPECT_NEAR(planes.health(1).median, 0.2, 0.02);
+  EXPECT_EQ(planes.health(1).points, 40);
+  // A disabled plane associates nothing; the others still do.
+  EXPECT_FALSE(planes.Associate(point(1, 0.0)).has_value());
+  EXPECT_EQ(planes.Associate(point(0, 0.0))->plane_id, 0);
 }
 
 TEST(PlaneAssociationTest, OptionsCheck) {

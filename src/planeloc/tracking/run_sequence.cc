@@ -257,6 +257,7 @@ RunSummary RunSequence(const RunOptions& run) {
     summary.keyframes += s.keyframe ? 1 : 0;
     tracked_points += s.tracked_points;
     if (s.ba_median_reprojection_px) ba_medians.push_back(*s.ba_median_reprojection_px);
+    if (s.planes_disabled) summary.planes_disabled = *s.planes_disabled;
     if (s.ba_plane_residuals) {
       plane_residuals += *s.ba_plane_residuals;
       ++bas;

@@ -51,6 +51,7 @@ struct RunSummary {
   double median_ba_reprojection_px = 0;  // median over the BA medians reported
   int planes = 0;                        // planes in the plane map (0: visual only)
   double mean_ba_plane_residuals = 0;    // point-to-plane residuals a local BA, on average
+  int planes_disabled = 0;               // planes disabled during the run (biased, see tracking)
   double seconds = 0;                    // wall time of the tracking loop
   std::vector<FrameStats> stats;         // per frame
   std::vector<Rigid3d> world_from_cam;   // per frame, as written

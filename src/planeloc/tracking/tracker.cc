@@ -64,6 +64,7 @@ std::string FrameStats::ToJson() const {
   if (ba_discarded) json += ",\"ba_discarded\":true";
   if (!map_lock.empty()) json += fmt::format(",\"map_lock\":\"{}\"", map_lock);
   if (registration) json += ",\"registration\":" + *registration;
+  if (planes_disabled) json += fmt::format(",\"planes_disabled\":{}", *planes_disabled);
   return json + "}";
 }
 
@@ -417,7 +418,9 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   job.keyframe_id = kf_id;
   // Before the map lock the planes' frame is unknown: visual BA only.
   const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
-  job.problem = BuildLocalWindow(map_, kf_id, options_, planes_active ? planes_.get() : nullptr);
+  job.problem =
+      BuildLocalWindow(map_, kf_id, options_, camera_, planes_active ? planes_.get() : nullptr);
+  if (planes_) stats.planes_disabled = planes_->num_disabled();
   if (job.problem.observations.empty()) {
     // Nothing to adjust (a keyframe without points).
   } else if (ba_worker_) {

@@ -59,6 +59,8 @@ struct FrameStats {
   // registration attempt that finished during this frame, as JSON.
   std::string map_lock;
   std::optional<std::string> registration;
+  // Plane mode, keyframes: planes of the map disabled so far (their points sit off them).
+  std::optional<int> planes_disabled;
   // One JSON object on one line (the --stats format).
   std::string ToJson() const;
 };

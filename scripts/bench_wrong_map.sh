@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# Issue 10 benchmark, "a map that can be wrong": per seed, the simulator's drive, its LiDAR plane
+# map, and wrong copies of it (20 % of the used planes moved by 0.1 / 0.2 / 0.3 m along their
+# normal, or rotated by 2 degrees; scripts/corrupt_planes.py); then ATE (no alignment: the map
+# fixes the frame) of `planeloc run --deterministic` with each map and with --no-planes (VO).
+# Prints one table row per seed: seed vo clean move0.1 move0.2 move0.3 rot2 (metres).
+#
+# Usage: scripts/bench_wrong_map.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
+#        [--config FILE] [--tag NAME]
+# Data (simulator output, maps) is reused from DIR/<preset>-<seed>/ when present; runs go to
+# DIR/<preset>-<seed>/<tag>/ (tag "run" by default; PLANELOC_BIN picks another binary).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+planeloc="${PLANELOC_BIN:-${PLANELOC_BUILD_DIR:-$root/build}/bin/planeloc}"
+preset=small
+seeds="3 11 21"
+out=/tmp/planeloc-bench-wrong-map
+config=()
+tag=run
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --preset) preset="$2"; shift 2 ;;
+    --seeds) seeds="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    --config) config=(--config "$2"); shift 2 ;;
+    --tag) tag="$2"; shift 2 ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    *) echo "bench_wrong_map.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+mkdir -p "$out"
+ate() {  # ATE RMSE of a trajectory, metres
+  "$planeloc" eval --gt "$1" --est "$2" --align none --json "$2.ate.json" >/dev/null
+  python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print("%.4f" % d["ape"]["rmse"])' \
+    "$2.ate.json"
+}
+echo "preset $preset, binary $planeloc"
+echo "seed vo clean move0.1 move0.2 move0.3 rot2"
+for seed in $seeds; do
+  d="$out/$preset-$seed"
+  mkdir -p "$d"
+  if [ ! -f "$d/planes.json" ]; then
+    if [ ! -f "$d/sim/poses/00.txt" ]; then
+      "$planeloc" sim --out "$d/sim" --preset "$preset" --seed "$seed" --force >"$d/log.txt" 2>&1
+    fi
+    "$planeloc" map build --sequence "$d/sim/sequences/00" --poses "$d/sim/poses/00.txt" \
+      --out "$d/map.pcd" --voxel 0.10 >>"$d/log.txt" 2>&1
+    "$planeloc" map planes --map "$d/map.pcd" --out "$d/planes.json" >>"$d/log.txt" 2>&1
+  fi
+  for kind in move0.1 move0.2 move0.3 rot2; do
+    case "$kind" in
+      move*) arg=(--move "${kind#move}") ;;
+      rot*) arg=(--rotate-deg "${kind#rot}") ;;
+    esac
+    python3 "$root/scripts/corrupt_planes.py" "$d/planes.json" "$d/planes_$kind.json" \
+      --seed "$seed" --fraction 0.2 "${arg[@]}" 2>>"$d/log.txt"
+  done
+  seq="$d/sim/sequences/00"
+  poses="$d/sim/poses/00.txt"
+  r="$d/$tag"
+  mkdir -p "$r"
+  row="$seed"
+  for kind in vo clean move0.1 move0.2 move0.3 rot2; do
+    case "$kind" in
+      vo) maparg=(--no-planes) ;;
+      clean) maparg=(--planes "$d/planes.json") ;;
+      *) maparg=(--planes "$d/planes_$kind.json") ;;
+    esac
+    "$planeloc" run --sequence "$seq" --init-pose-from "$poses" "${maparg[@]}" "${config[@]}" \
+      --deterministic --out "$r/traj_$kind.txt" --stats "$r/stats_$kind.jsonl" \
+      >"$r/run_$kind.log" 2>&1
+    row="$row $(ate "$poses" "$r/traj_$kind.txt")"
+  done
+  echo "$row"
+done
