@@ -94,6 +94,7 @@ MapLocker::MapLocker(const PlaneMap& planes, const MapLockOptions& options, cons
   sigma_along_ = sigma_lateral_ = start.sigma_horizontal;
   sigma_vertical_ = start.sigma_vertical;
   sigma_yaw_ = start.sigma_yaw_deg * kDegree;
+  if (start.Exact()) state_ = MapLock::kLocked;
   if (threaded) thread_ = std::jthread([this](std::stop_token stop) { Run(stop); });
 }
 

@@ -79,8 +79,8 @@ struct RegistrationReport {
 
 class MapLocker {
  public:
-  // `world_from_cam_initial`: the start pose (the prior's mean). `threaded`: registrations on a
-  // worker thread; otherwise in line (bit-identical runs).
+  // `world_from_cam_initial`: the start pose (the prior's mean); an exact start begins locked.
+  // `threaded`: registrations on a worker thread; otherwise in line (bit-identical runs).
   MapLocker(const PlaneMap& planes, const MapLockOptions& options, const StartPrior& start,
             const Rigid3d& world_from_cam_initial, bool threaded);
   ~MapLocker();

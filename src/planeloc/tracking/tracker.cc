@@ -81,11 +81,9 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
   if (options_.deterministic) options_.ba.num_threads = 1;  // Ceres sums in thread order
   if (plane_map) {
     planes_ = std::make_unique<PlaneAssociator>(*plane_map, options_.planes);
-    start_prior.Check();
-    if (!start_prior.Exact()) {
-      locker_ = std::make_unique<MapLocker>(*plane_map, options_.map_lock, start_prior,
-                                            world_from_cam_initial, !options_.deterministic);
-    }
+    // An exact start is locked from frame 0; the locker still re-registers after a loss.
+    locker_ = std::make_unique<MapLocker>(*plane_map, options_.map_lock, start_prior,
+                                          world_from_cam_initial, !options_.deterministic);
   } else {
     options_.ba.lambda = 1.0;  // nothing to weigh the reprojection against
   }
@@ -105,7 +103,15 @@ Rigid3d Tracker::PredictPose() const {
   if (!last_frame_) return cam_from_world_initial_;
   Rigid3d pose = last_frame_->cam_from_world;
   if (velocity_) {
-    for (int k = 0; k <= frames_skipped_; ++k) pose = *velocity_ * pose;
+    Rigid3d step = *velocity_;
+    if (frames_skipped_ > 0) {
+      // Across an outage only the heading rate persists (a car turns for seconds); pitch and roll
+      // rates are suspension oscillation, and extrapolated over many frames they tilt the
+      // predicted pose by degrees. The camera's y axis is the vehicle's vertical.
+      const Eigen::Vector3d omega = LogSO3(step.RotationMatrix());
+      step.rotation = Eigen::Quaterniond(ExpSO3(Eigen::Vector3d(0, omega.y(), 0)));
+    }
+    for (int k = 0; k <= frames_skipped_; ++k) pose = step * pose;
   }
   return pose;
 }

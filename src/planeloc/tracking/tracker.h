@@ -105,7 +105,7 @@ class Tracker {
   const SparseMap& map() const { return map_; }
   // Map-frame corrections applied so far (registration locks).
   const std::vector<LockEvent>& lock_events() const { return lock_events_; }
-  // kLocked when the start was exact or without a plane map.
+  // kLocked without a plane map.
   MapLock map_lock() const { return locker_ ? locker_->state() : MapLock::kLocked; }
   const OrbExtractor& extractor() const { return extractor_; }
   const TrackerOptions& options() const { return options_; }
@@ -134,7 +134,7 @@ class Tracker {
   OrbExtractor extractor_;
   SparseMap map_;
   std::unique_ptr<BaWorker> ba_worker_;
-  std::unique_ptr<MapLocker> locker_;  // plane map and uncertain start only
+  std::unique_ptr<MapLocker> locker_;  // with a plane map
   std::vector<LockEvent> lock_events_;
   // Corrections applied so far; a BA result computed before the latest one is dropped.
   int correction_epoch_ = 0;

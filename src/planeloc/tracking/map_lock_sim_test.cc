@@ -1,0 +1,162 @@
+// The map lock end to end on the simulator's `tiny` preset (one straight street): a run started
+// off its map pose registers itself to the plane map; the same run with the registration off
+// keeps the start error. Also: the lock survives a blackout.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+#include "planeloc/io/kitti_sequence.h"
+#include "planeloc/io/plane_map.h"
+#include "planeloc/io/trajectory.h"
+#include "planeloc/map/map_builder.h"
+#include "planeloc/map/map_planes.h"
+#include "planeloc/sim/simulator.h"
+#include "planeloc/tracking/run_sequence.h"
+#include "planeloc/tracking/tracker.h"
+#include "planeloc/util/temp_dir.h"
+
+namespace planeloc {
+namespace {
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+class MapLockSimTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::make_unique<TempDir>("planeloc-map-lock-sim");
+    sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
+    options.seed = 5;  // the other tracking tests use the preset's default seed
+    options.show_progress = false;
+    result_ =
+        std::make_unique<sim::SimResult>(sim::GenerateSequence(options, dir_->path() / "sim"));
+    MapBuildOptions build;
+    build.show_progress = false;
+    const PointCloud map = BuildMap(build, KittiSequence::Open(result_->sequence_dir),
+                                    ReadKittiTrajectory(result_->poses_path));
+    planes_ =
+        std::make_unique<PlaneMap>(RunMapPlanes(map, MapPlanesOptions()).extraction.plane_map);
+    WritePlaneMap(dir_->path() / "planes.json", *planes_);
+  }
+  static void TearDownTestSuite() {
+    result_.reset();
+    planes_.reset();
+    dir_.reset();
+  }
+
+  // The first GT pose moved 1.2 m sideways (x), 0.3 m up and 0.6 m ahead, and turned 3 deg.
+  static Rigid3d CoarseStart() {
+    const Rigid3d& truth = result_->world_from_cam.front();
+    const Eigen::Matrix3d yaw(Eigen::AngleAxisd(3.0 * kDegree, Eigen::Vector3d::UnitY()));
+    return Rigid3d(Eigen::Quaterniond(yaw * truth.RotationMatrix()),
+                   truth.translation + Eigen::Vector3d(1.2, -0.3, 0.6));
+  }
+
+  static RunSummary Run(const std::string& name, const StartPrior& prior) {
+    RunOptions run;
+    run.sequence = result_->sequence_dir;
+    run.trajectory_path = dir_->path() / (name + ".txt");
+    run.deterministic = true;
+    run.show_progress = false;
+    run.world_from_cam_initial = CoarseStart();
+    run.planes_path = dir_->path() / "planes.json";
+    run.start_prior = prior;
+    return RunSequence(run);
+  }
+
+  // Lateral (x) and vertical (y) position errors: the street runs along z.
+  static double CrossTrackError(const Rigid3d& estimate, int frame) {
+    const Eigen::Vector3d d = estimate.translation - result_->world_from_cam[frame].translation;
+    return std::hypot(d.x(), d.y());
+  }
+
+  static std::unique_ptr<TempDir> dir_;
+  static std::unique_ptr<sim::SimResult> result_;
+  static std::unique_ptr<PlaneMap> planes_;
+};
+
+std::unique_ptr<TempDir> MapLockSimTest::dir_;
+std::unique_ptr<sim::SimResult> MapLockSimTest::result_;
+std::unique_ptr<PlaneMap> MapLockSimTest::planes_;
+
+TEST_F(MapLockSimTest, CoarseStartLocksOntoThePlaneMap) {
+  StartPrior gnss;
+  gnss.sigma_horizontal = 2.0;
+  gnss.sigma_vertical = 0.5;
+  gnss.sigma_yaw_deg = 5.0;
+  const RunSummary locked = Run("coarse", gnss);
+  StartPrior exact;  // registration off: the start error is never corrected
+  const RunSummary unlocked = Run("coarse_exact_prior", exact);
+  ASSERT_EQ(locked.frames, result_->frames);
+  ASSERT_FALSE(locked.lock_events.empty());
+  EXPECT_NE(locked.final_map_lock, "searching");
+  const int lock_frame = locked.lock_events.front().frame;
+  // Measured (seed 5, 22c0ed5+merges, `planeloc_tracking_test --gtest_filter=MapLock*`): first
+  // lock at frame 37 of 60, worst cross-track error after it 0.140 m; without registration the
+  // mean cross-track error is 3.76 m (the 3 deg heading error grows it along the street).
+  double locked_worst = 0, unlocked_mean = 0;
+  for (int i = lock_frame; i < locked.frames; ++i) {
+    locked_worst = std::max(locked_worst, CrossTrackError(locked.world_from_cam[i], i));
+    unlocked_mean += CrossTrackError(unlocked.world_from_cam[i], i);
+  }
+  unlocked_mean /= locked.frames - lock_frame;
+  std::cout << "lock at frame " << lock_frame << ", cross-track error after it: worst "
+            << locked_worst << " m; without registration: mean " << unlocked_mean << " m\n";
+  EXPECT_LT(lock_frame, 50);
+  EXPECT_LT(locked_worst, 0.25);
+  EXPECT_GT(unlocked_mean, 0.8);
+  // The heading error is gone too.
+  const Rigid3d& last = locked.world_from_cam.back();
+  EXPECT_LT(RotationAngle(last.rotation, result_->world_from_cam.back().rotation), 0.5 * kDegree);
+}
+
+}  // namespace
+}  // namespace planeloc
+
+namespace planeloc {
+namespace {
+
+// Recovery in the map after an outage: 10 black frames, or 10 frames that never arrive (1 s at
+// 10 Hz). The run starts at the exact map pose so that the outage is the only error source.
+TEST_F(MapLockSimTest, PoseAfterAnOutageIsBackInTheMapWithinTwentyFrames) {
+  const KittiSequence sequence = KittiSequence::Open(result_->sequence_dir);
+  for (const bool black : {true, false}) {
+    TrackerOptions options;
+    options.deterministic = true;
+    Tracker tracker(sequence.camera(), options, result_->world_from_cam.front(), planes_.get());
+    constexpr int kOutageStart = 15, kOutageEnd = 25;  // frames [15, 25)
+    double worst_after = 0;
+    const int frames = std::min<int>(result_->frames, kOutageEnd + 20);
+    for (int i = 0; i < frames; ++i) {
+      const bool outage = i >= kOutageStart && i < kOutageEnd;
+      TrackResult r;
+      if (outage && !black) {
+        r = tracker.SkipFrame(sequence.timestamp(i));
+      } else {
+        StereoPair pair = sequence.LoadStereoPair(i);
+        if (outage) {
+          pair.left.setTo(0);
+          pair.right.setTo(0);
+        }
+        r = tracker.Track(pair.left, pair.right, sequence.timestamp(i));
+      }
+      if (i >= kOutageEnd) {
+        worst_after = std::max(
+            worst_after,
+            (r.world_from_cam.translation - result_->world_from_cam[i].translation).norm());
+      }
+    }
+    std::cout << (black ? "blackout" : "frame gap")
+              << ": worst error in the 20 frames after: " << worst_after << " m\n";
+    // Measured (seed 5, `planeloc_tracking_test --gtest_filter=MapLock*Outage*`): 0.236 m for
+    // both (the tracker re-initializes at frame 25 in both cases); 0.73 m before the prediction
+    // across an outage kept only the heading rate. The bound is the (0.3 m).
+    EXPECT_LT(worst_after, 0.3) << (black ? "blackout" : "frame gap");
+  }
+}
+
+}  // namespace
+}  // namespace planeloc
