@@ -235,7 +235,7 @@ def main():
                                                "yaw_deg": max(e[4] for e in errors)}
                     e = row["error_at_partial"]
                     wrong = wrong or e["lateral_m"] > 0.5 or e["vertical_m"] > 0.5 or e["yaw_deg"] > 2
-                first = locked if locked is not None else partial
+                first = partial if partial is not None else locked
                 row["lock_in_time"] = locked is not None and (
                     dist[locked] <= args.lock_distance or (corner is not None and locked <= corner))
                 row["wrong_lock"] = wrong
