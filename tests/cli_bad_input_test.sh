@@ -126,5 +126,23 @@ expect_error "map planes non-finite voxel" "voxel" -- \
 expect_error "map build missing sequence" "$work/noseq" -- \
   "$planeloc" map build --sequence "$work/noseq" --poses "$work/gt.txt" --out "$work/m.pcd"
 
+# run --init-sigma and initial poses (issue 9): the option or file (and line) named.
+for sigma in "2 0.5" "2 -0.5 5" "2 nan 5" "a b c"; do
+  expect_error "run --init-sigma '$sigma'" "--init-sigma" -- \
+    "$planeloc" run --sequence "$work/nope" --planes "$work/nope.json" --init-sigma "$sigma" \
+    --init-pose "1 0 0 0 0 1 0 0 0 0 1 0" --out "$work/t.txt"
+done
+printf '# a comment\nnan 0 0 0 0 1 0 0 0 0 1 0\n' >"$work/nanpose.txt"
+expect_error "run initial pose NaN" "nanpose.txt:2" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --init-pose-from "$work/nanpose.txt" \
+  --out "$work/t.txt"
+printf '2 0 0 0 0 2 0 0 0 0 2 0\n' >"$work/scaled.txt"
+expect_error "run initial pose scaled rotation" "scaled.txt:1" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --init-pose-from "$work/scaled.txt" \
+  --out "$work/t.txt"
+expect_error "run initial pose mirrored" "--init-pose" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --init-pose "-1 0 0 0 0 1 0 0 0 0 1 0" \
+  --out "$work/t.txt"
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
