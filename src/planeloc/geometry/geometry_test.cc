@@ -128,3 +128,19 @@ TEST(Plane, FitTransformAndDistance) {
 
 }  // namespace
 }  // namespace planeloc
+
+namespace planeloc {
+namespace {
+
+TEST(PolygonTest, InsideOrNearGrowsTheOutlineByTheMargin) {
+  const std::vector<Eigen::Vector2d> square = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  EXPECT_TRUE(InsideOrNearPolygon2d(square, {0.5, 0.5}, 0.0));
+  EXPECT_TRUE(InsideOrNearPolygon2d(square, {1.3, 0.5}, 0.5));   // 0.3 from the right edge
+  EXPECT_FALSE(InsideOrNearPolygon2d(square, {1.6, 0.5}, 0.5));  // 0.6
+  // Beyond a corner the distance is to the corner: 0.3 * sqrt(2) = 0.42, 0.4 * sqrt(2) = 0.57.
+  EXPECT_TRUE(InsideOrNearPolygon2d(square, {1.3, 1.3}, 0.5));
+  EXPECT_FALSE(InsideOrNearPolygon2d(square, {1.4, 1.4}, 0.5));
+}
+
+}  // namespace
+}  // namespace planeloc

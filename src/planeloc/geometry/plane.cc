@@ -63,4 +63,17 @@ bool InsidePolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vect
   return inside;
 }
 
+bool InsideOrNearPolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& q,
+                           double margin) {
+  if (InsidePolygon2d(ring, q)) return true;
+  const double margin2 = margin * margin;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const Eigen::Vector2d ab = ring[j] - ring[i];
+    const double length2 = ab.squaredNorm();
+    const double t = length2 > 0.0 ? std::clamp((q - ring[i]).dot(ab) / length2, 0.0, 1.0) : 0.0;
+    if ((ring[i] + t * ab - q).squaredNorm() <= margin2) return true;
+  }
+  return false;
+}
+
 }  // namespace planeloc

@@ -38,5 +38,8 @@ struct Plane {
 
 // Crossing-number test of q against a closed ring (any orientation, no repeated last vertex).
 bool InsidePolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& q);
+// Inside the ring, or within `margin` of one of its edges (an outline grown by the margin).
+bool InsideOrNearPolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& q,
+                           double margin);
 
 }  // namespace planeloc

@@ -22,14 +22,6 @@ const double kFacadeSin = std::sin(15.0 * kDegree);
 // Lever arm (metres) that puts rotations in metres for the reported eigenvalues.
 constexpr double kLeverArm = 10.0;
 
-double SegmentDistance2(const Eigen::Vector2d& q, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0.0 ? std::clamp((q - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - q).squaredNorm();
-}
-
 Eigen::Vector3d AnyPerpendicular(const Eigen::Vector3d& n) {
   const Eigen::Vector3d seed =
       std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
@@ -210,12 +202,7 @@ bool MapRegistration::NearOutline(const FlatPlane& plane, const Eigen::Vector3d&
     return false;
   }
   const Eigen::Vector2d q(point.dot(plane.u), point.dot(plane.v));
-  if (InsidePolygon2d(plane.ring, q)) return true;
-  double nearest2 = kInf;
-  for (std::size_t i = 0, j = plane.ring.size() - 1; i < plane.ring.size(); j = i++) {
-    nearest2 = std::min(nearest2, SegmentDistance2(q, plane.ring[i], plane.ring[j]));
-  }
-  return nearest2 <= margin * margin;
+  return InsideOrNearPolygon2d(plane.ring, q, margin);
 }
 
 void MapRegistration::Refine(const std::vector<RegistrationPoint>& points,

@@ -15,15 +15,6 @@
 namespace planeloc {
 namespace {
 
-// Squared distance from q to the segment [a, b].
-double SegmentDistance2(const Eigen::Vector2d& q, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0.0 ? std::clamp((q - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - q).squaredNorm();
-}
-
 constexpr std::int64_t kAxisCells = 1 << 20;  // per axis, centred on 0: +-5 000 km at 5 m
 
 }  // namespace
@@ -161,12 +152,7 @@ std::int64_t PlaneAssociator::CellKey(const Eigen::Vector3d& point) const {
 bool PlaneAssociator::InsideOutline(const FlatPlane& flat, const Eigen::Vector3d& point) const {
   if (flat.ring.size() < 3) return true;
   const Eigen::Vector2d q(point.dot(flat.u), point.dot(flat.v));
-  if (InsidePolygon2d(flat.ring, q)) return true;
-  double nearest2 = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0, j = flat.ring.size() - 1; i < flat.ring.size(); j = i++) {
-    nearest2 = std::min(nearest2, SegmentDistance2(q, flat.ring[i], flat.ring[j]));
-  }
-  return nearest2 <= options_.polygon_margin * options_.polygon_margin;
+  return InsideOrNearPolygon2d(flat.ring, q, options_.polygon_margin);
 }
 
 template <typename F>
