@@ -85,7 +85,7 @@ struct MapRegistrationOptions {
   // errors of visual structure) is below these.
   double max_dof_sigma = 0.1;       // metres
   double max_dof_sigma_deg = 0.5;   // degrees, heading
-  double max_tilt_sigma_deg = 1.0;  // degrees, roll and pitch (10 m away: 17 cm)
+  double max_tilt_sigma_deg = 0.5;  // degrees, roll and pitch (10 m away: 9 cm)
   double noise_inflation = 3.0;
   // Prior on roll and pitch (degrees): the start pose's tilt, refined by the road.
   double sigma_tilt_deg = 1.0;
