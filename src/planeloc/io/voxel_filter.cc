@@ -7,23 +7,11 @@
 #include <string>
 #include <tuple>
 
+#include "planeloc/geometry/morton.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
-namespace {
-
-// Spreads the low 21 bits of x so that there are two zero bits between consecutive bits.
-std::uint64_t SpreadBits(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 VoxelAccumulator::VoxelAccumulator(double voxel_size) : voxel_size_(voxel_size) {
   if (!(voxel_size >= 0.0) || !std::isfinite(voxel_size)) {
@@ -77,9 +65,9 @@ PointCloud VoxelAccumulator::Finish() {
       lo = {std::min(lo.x, key.x), std::min(lo.y, key.y), std::min(lo.z, key.z)};
     }
     for (const auto& [key, sum] : voxels_) {
-      const std::uint64_t morton = SpreadBits(static_cast<std::uint64_t>(key.x - lo.x)) |
-                                   SpreadBits(static_cast<std::uint64_t>(key.y - lo.y)) << 1 |
-                                   SpreadBits(static_cast<std::uint64_t>(key.z - lo.z)) << 2;
+      const std::uint64_t morton = MortonKey3(static_cast<std::uint64_t>(key.x - lo.x),
+                                              static_cast<std::uint64_t>(key.y - lo.y),
+                                              static_cast<std::uint64_t>(key.z - lo.z));
       sorted.emplace_back(morton, key, sum);
     }
     voxels_ = {};

@@ -10,27 +10,17 @@
 #include <stdexcept>
 #include <string>
 
+#include "planeloc/geometry/morton.h"
+
 namespace planeloc {
 namespace {
 
 constexpr int kBitsPerAxis = 21;  // 3 * 21 = 63 bits of Morton key
 constexpr std::int64_t kMaxCell = (std::int64_t{1} << kBitsPerAxis) - 1;
 
-// Spreads the low 21 bits of x so that there are two zero bits between consecutive bits.
-std::uint64_t SpreadBits(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
-
 std::uint64_t MortonKey(std::int64_t x, std::int64_t y, std::int64_t z) {
-  return SpreadBits(static_cast<std::uint64_t>(x)) |
-         SpreadBits(static_cast<std::uint64_t>(y)) << 1 |
-         SpreadBits(static_cast<std::uint64_t>(z)) << 2;
+  return MortonKey3(static_cast<std::uint64_t>(x), static_cast<std::uint64_t>(y),
+                    static_cast<std::uint64_t>(z));
 }
 
 // Points sorted by the Morton key of their cell; cells are runs of equal keys.
