@@ -36,6 +36,7 @@ void MapLockOptions::Check() const {
     throw OptionsError("MapLock.attemptEveryKeyframes must be >= 1");
   }
   if (structure_keyframes < 1) throw OptionsError("MapLock.structureKeyframes must be >= 1");
+  if (settle_keyframes < 0) throw OptionsError("MapLock.settleKeyframes must be >= 0");
   if (!(max_point_distance > 0)) throw OptionsError("MapLock.maxPointDistance must be > 0 (m)");
   if (!(disparity_sigma_px > 0)) throw OptionsError("MapLock.disparitySigma must be > 0 (px)");
   for (const double value :
@@ -221,7 +222,8 @@ std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLo
   const bool improves =
       (found == MapLock::kLocked) || (found == MapLock::kPartial && state_ == MapLock::kSearching);
   if (improves) {
-    correction = MapCorrection{report.result.map_from_world, segment_first_keyframe_};
+    correction = MapCorrection{report.result.map_from_world, segment_first_keyframe_,
+                               report.result.camera_position_covariance};
     state_ = found;
     report.lock_after = found;
     if (found == MapLock::kPartial) {

@@ -58,6 +58,9 @@ struct MapLockOptions {
   double lost_sigma_horizontal = 1.0;  // metres
   double lost_sigma_vertical = 0.3;    // metres
   double lost_sigma_yaw_deg = 3.0;
+  // After a correction, plane bias statistics allow for the lock's position uncertainty during
+  // this many keyframes (the window BA then pulls the trajectory onto the planes).
+  int settle_keyframes = 30;
   void Check() const;
 };
 
@@ -66,6 +69,9 @@ struct MapLockOptions {
 struct MapCorrection {
   Rigid3d map_from_world;
   int first_keyframe_id = 0;
+  // How well the correction places the current camera in the map (m^2, map axes): what a plane's
+  // points may sit off it right after the lock without the plane being wrong.
+  Eigen::Matrix3d camera_position_covariance = Eigen::Matrix3d::Zero();
 };
 
 // One registration attempt, as reported in the stats.

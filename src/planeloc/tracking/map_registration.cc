@@ -9,6 +9,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "planeloc/tracking/registration_voting.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
@@ -371,169 +372,63 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
   // 1. Vertical shift: points over a ground plane vote (5 cm bins).
   const double vertical_range = options_.search_sigmas * sigma_vertical + 0.3;
   constexpr double kBin = 0.05;
-  const int bins = static_cast<int>(std::ceil(2.0 * vertical_range / kBin)) + 1;
-  std::vector<double> histogram(bins, 0.0);
-  std::vector<bool> near_ground(points.size(), false);
   const double horizontal_reach = std::max(half_range[0], half_range[1]);
+  std::vector<double> ground_votes;
+  std::vector<bool> near_ground(points.size(), false);
   for (std::size_t i = 0; i < points.size(); ++i) {
     for (const int g : grounds) {
       const FlatPlane& plane = planes_[g];
       const Eigen::Vector3d& p = points[i].point_in_world;
       if (!NearOutline(plane, p, horizontal_reach)) continue;
       const double shift = -plane.plane.SignedDistance(p) / plane.plane.normal.dot(up);
-      const int bin = static_cast<int>(std::lround((shift + vertical_range) / kBin));
-      if (bin >= 0 && bin < bins) {
-        histogram[bin] += 1.0;
-        near_ground[i] = true;
-      }
+      if (std::abs(shift) > vertical_range + 0.5 * kBin) continue;
+      ground_votes.push_back(shift);
+      near_ground[i] = true;
     }
   }
-  double vertical_shift = 0, best_count = 0;
-  for (int k = 0; k < bins; ++k) {
-    double count = histogram[k];
-    if (k > 0) count += 0.5 * histogram[k - 1];
-    if (k + 1 < bins) count += 0.5 * histogram[k + 1];
-    if (count > best_count) {
-      best_count = count;
-      vertical_shift = k * kBin - vertical_range;
-    }
-  }
+  const double vertical_shift = VoteVerticalShift(ground_votes, vertical_range, kBin);
   // Points within 0.3 m of the ground (after the vertical shift) vote for no facade.
+  std::vector<Eigen::Vector3d> facade_voters;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    if (!near_ground[i]) continue;
-    near_ground[i] = false;
     const Eigen::Vector3d p = points[i].point_in_world + vertical_shift * up;
+    bool on_ground = false;
     for (const int g : grounds) {
-      if (std::abs(planes_[g].plane.SignedDistance(p)) < 0.3) near_ground[i] = true;
+      if (near_ground[i] && std::abs(planes_[g].plane.SignedDistance(p)) < 0.3) on_ground = true;
     }
+    if (!on_ground) facade_voters.push_back(p);
   }
 
   // 2. Heading x horizontal shift: Hough voting over facades.
-  struct Peak {
-    double votes;
-    double heading;
-    Eigen::Vector3d shift;
-  };
-  std::vector<Peak> peaks;
-  const int headings = sigma_heading > 0
-                           ? std::max(1, std::min(options_.max_headings,
-                                                  static_cast<int>(std::ceil(
-                                                      2.0 * options_.search_sigmas * sigma_heading /
-                                                      (options_.heading_step_deg * kDegree))) +
-                                                      1))
-                           : 1;
-  std::vector<float> accumulator(static_cast<std::size_t>(cells[0]) * cells[1]);
-  std::vector<float> smoothed(accumulator.size());
-  // Each facade's horizontal normal, in-facade horizontal direction and outline extents.
-  struct Facade {
-    const FlatPlane* plane;
-    Eigen::Vector3d n, m;
-    double n_norm;
-    double m_lo = -kInf, m_hi = kInf, z_lo = -kInf, z_hi = kInf;
-  };
-  std::vector<Facade> facade_info;
+  const int num_headings =
+      sigma_heading > 0 ? std::max(1, std::min(options_.max_headings,
+                                               static_cast<int>(std::ceil(
+                                                   2.0 * options_.search_sigmas * sigma_heading /
+                                                   (options_.heading_step_deg * kDegree))) +
+                                                   1))
+                        : 1;
+  std::vector<double> headings;
+  for (int k = 0; k < num_headings; ++k) {
+    headings.push_back(num_headings == 1 ? 0.0
+                                         : -options_.search_sigmas * sigma_heading +
+                                               2.0 * options_.search_sigmas * sigma_heading * k /
+                                                   (num_headings - 1));
+  }
+  std::vector<HoughFacade> hough_facades;
   for (const int f : facades) {
-    Facade facade;
-    facade.plane = &planes_[f];
-    facade.n = planes_[f].plane.normal - planes_[f].plane.normal.dot(up) * up;
-    facade.n_norm = facade.n.norm();
-    facade.n /= facade.n_norm;
-    facade.m = up.cross(facade.n);
-    if (!planes_[f].polygon.empty()) {
-      facade.m_lo = facade.z_lo = kInf;
-      facade.m_hi = facade.z_hi = -kInf;
-      for (const Eigen::Vector3d& x : planes_[f].polygon) {
-        facade.m_lo = std::min(facade.m_lo, x.dot(facade.m));
-        facade.m_hi = std::max(facade.m_hi, x.dot(facade.m));
-        facade.z_lo = std::min(facade.z_lo, x.dot(up));
-        facade.z_hi = std::max(facade.z_hi, x.dot(up));
-      }
-    }
-    facade_info.push_back(facade);
+    hough_facades.push_back(MakeHoughFacade(planes_[f].plane, planes_[f].polygon, up));
   }
-  for (int k = 0; k < headings; ++k) {
-    const double heading =
-        headings == 1 ? 0.0
-                      : -options_.search_sigmas * sigma_heading +
-                            2.0 * options_.search_sigmas * sigma_heading * k / (headings - 1);
-    const Eigen::Matrix3d rotation = Eigen::AngleAxisd(heading, up).toRotationMatrix();
-    std::fill(accumulator.begin(), accumulator.end(), 0.0f);
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      if (near_ground[i]) continue;
-      const Eigen::Vector3d p = rotation * (points[i].point_in_world - c) + c + vertical_shift * up;
-      for (const Facade& facade : facade_info) {
-        const Eigen::Vector3d& n = facade.n;
-        const Eigen::Vector3d& m = facade.m;
-        const double s = -facade.plane->plane.SignedDistance(p) / facade.n_norm;  // along n
-        if (std::abs(s) > horizontal_reach + 1.0) continue;
-        const double m_lo = facade.m_lo, m_hi = facade.m_hi;
-        const double z_lo = facade.z_lo, z_hi = facade.z_hi;
-        const double height = p.dot(up);
-        if (height < z_lo - 0.5 || height > z_hi + 0.5) continue;
-        // Shift = s n + tau m; the shifted point must stay within the facade's extent along m.
-        const double along = p.dot(m);
-        const double tau_lo = m_lo - options_.outline_margin - along;
-        const double tau_hi = m_hi + options_.outline_margin - along;
-        const Eigen::Vector2d origin(s * n.dot(axis[0]), s * n.dot(axis[1]));
-        const Eigen::Vector2d direction(m.dot(axis[0]), m.dot(axis[1]));
-        const double span = std::hypot(half_range[0], half_range[1]);
-        const double t0 = std::max(tau_lo, -span), t1 = std::min(tau_hi, span);
-        int last = -1;
-        for (double tau = t0; tau <= t1; tau += 0.7 * cell) {
-          const Eigen::Vector2d x = origin + tau * direction;
-          const int ix = static_cast<int>(std::lround((x(0) + half_range[0]) / cell));
-          const int iy = static_cast<int>(std::lround((x(1) + half_range[1]) / cell));
-          if (ix < 0 || iy < 0 || ix >= cells[0] || iy >= cells[1]) continue;
-          const int index = iy * cells[0] + ix;
-          if (index == last) continue;
-          accumulator[index] += 1.0f;
-          last = index;
-        }
-      }
-    }
-    // 3x3 box filter, then local maxima.
-    for (int iy = 0; iy < cells[1]; ++iy) {
-      for (int ix = 0; ix < cells[0]; ++ix) {
-        float sum = 0;
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int x = ix + dx, y = iy + dy;
-            if (x >= 0 && y >= 0 && x < cells[0] && y < cells[1])
-              sum += accumulator[y * cells[0] + x];
-          }
-        }
-        smoothed[iy * cells[0] + ix] = sum;
-      }
-    }
-    std::vector<Peak> local;
-    for (int iy = 0; iy < cells[1]; ++iy) {
-      for (int ix = 0; ix < cells[0]; ++ix) {
-        const float value = smoothed[iy * cells[0] + ix];
-        if (value <= 0) continue;
-        bool is_max = true;
-        for (int dy = -1; dy <= 1 && is_max; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int x = ix + dx, y = iy + dy;
-            if ((dx || dy) && x >= 0 && y >= 0 && x < cells[0] && y < cells[1] &&
-                smoothed[y * cells[0] + x] > value) {
-              is_max = false;
-              break;
-            }
-          }
-        }
-        if (!is_max) continue;
-        const Eigen::Vector3d shift = (ix * cell - half_range[0]) * axis[0] +
-                                      (iy * cell - half_range[1]) * axis[1] + vertical_shift * up;
-        local.push_back({value, heading, shift});
-      }
-    }
-    std::sort(local.begin(), local.end(),
-              [](const Peak& a, const Peak& b) { return a.votes > b.votes; });
-    if (local.size() > 3) local.resize(3);
-    peaks.insert(peaks.end(), local.begin(), local.end());
-  }
-  std::stable_sort(peaks.begin(), peaks.end(),
-                   [](const Peak& a, const Peak& b) { return a.votes > b.votes; });
+  ShiftGrid grid;
+  grid.axis[0] = axis[0];
+  grid.axis[1] = axis[1];
+  grid.half_range[0] = half_range[0];
+  grid.half_range[1] = half_range[1];
+  grid.cell = cell;
+  grid.cells[0] = cells[0];
+  grid.cells[1] = cells[1];
+  HoughOptions hough_options;
+  hough_options.outline_margin = options_.outline_margin;
+  const std::vector<HeadingShiftPeak> peaks =
+      VoteHeadingAndShift(facade_voters, c, up, hough_facades, headings, grid, hough_options);
 
   // Distinct peaks, plus the prior's mean (the answer when no facade votes).
   std::vector<Hypothesis> hypotheses;
@@ -548,9 +443,9 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
     h.votes = votes;
     hypotheses.push_back(h);
   };
-  for (const Peak& peak : peaks) {
+  for (const HeadingShiftPeak& peak : peaks) {
     if (static_cast<int>(hypotheses.size()) >= options_.num_hypotheses) break;
-    add_hypothesis(peak.heading, peak.shift, peak.votes);
+    add_hypothesis(peak.heading, peak.shift_xy + vertical_shift * up, peak.votes);
   }
   add_hypothesis(0.0, vertical_shift * up, 0.0);
 
@@ -576,6 +471,7 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
   to_camera.topRightCorner<3, 3>() = -Hat(best.rotation * (camera - c));
   const Matrix6d covariance =
       to_camera * RegularizedCovariance(best.information) * to_camera.transpose();
+  result.camera_position_covariance = covariance.topLeftCorner<3, 3>();
   const Eigen::Vector3d named[kNumDofs] = {axes.along, axes.lateral, axes.up,
                                            axes.along, axes.lateral, axes.up};
   for (int dof = 0; dof < kNumDofs; ++dof) {

@@ -127,6 +127,9 @@ struct RegistrationResult {
   // the point-to-plane information of the best hypothesis; +inf when unobserved.
   std::array<double, kNumDofs> dof_sigma{};
   std::array<bool, kNumDofs> constrained{};
+  // Covariance of the current camera's position in the map frame (m^2), from the same
+  // information; an unobserved direction gets a large (regularized, ~100 m) variance.
+  Eigen::Matrix3d camera_position_covariance = Eigen::Matrix3d::Identity() * 1e4;
   Vector6d information_eigenvalues = Vector6d::Zero();  // metric units (rotation x 10 m)
   int points = 0;                                       // structure points used
   int inliers = 0;                                      // of the best hypothesis

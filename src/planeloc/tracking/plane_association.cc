@@ -274,10 +274,16 @@ int PlaneAssociator::UpdateHealth(int associations) {
     health.median = median;
     health.standard_error = 1.2533 * sigma / std::sqrt(static_cast<double>(n));
     if (!was_judged && health.points >= options_.bias_min_points) ++judged;
+    // What the trajectory's own error in the map frame can explain of the bias.
+    const Eigen::Vector3d& normal = flat.plane.plane_in_map.normal;
+    const double trajectory_variance = std::max(0.0, normal.dot(trajectory_covariance_ * normal));
+    const double unexplained = std::max(0.0, std::abs(median) - std::sqrt(trajectory_variance));
     // Down-weighting: from half the points needed to disable, the bias joins the plane sigma.
-    flat.bias2 = 2 * health.points >= options_.bias_min_points ? median * median : 0.0;
+    flat.bias2 = 2 * health.points >= options_.bias_min_points ? unexplained * unexplained : 0.0;
+    const double bias_sigma =
+        std::sqrt(health.standard_error * health.standard_error + trajectory_variance);
     if (health.points >= options_.bias_min_points && std::abs(median) > options_.bias_min &&
-        std::abs(median) > options_.bias_significance * health.standard_error) {
+        std::abs(median) > options_.bias_significance * bias_sigma) {
       health.disabled = true;
       flat.distance_by_point.clear();
       ++num_disabled_;
@@ -305,6 +311,13 @@ int PlaneAssociator::UpdateHealth(int associations) {
         map_name_, num_disabled_, judged);
   }
   return disabled_now;
+}
+
+void PlaneAssociator::SetTrajectoryCovariance(const Eigen::Matrix3d& position_covariance_in_map) {
+  if (!position_covariance_in_map.allFinite()) {
+    throw std::invalid_argument("PlaneAssociator::SetTrajectoryCovariance: not finite");
+  }
+  trajectory_covariance_ = position_covariance_in_map;
 }
 
 const MapPlane& PlaneAssociator::plane(int id) const {

@@ -123,6 +123,12 @@ class PlaneAssociator {
   // ones (spdlog warn each) and warns once when the map looks wrong. `associations`: points
   // associated in the window just built. Returns the number of planes disabled by this call.
   int UpdateHealth(int associations);
+  // How far the trajectory itself may be off in the map frame (position covariance, m^2, map
+  // axes), e.g. right after a map lock: a plane's points then sit off it by n^T e for a camera
+  // error e, so the bias test allows n^T C n on top of the median's standard error, and only the
+  // part of the bias beyond sqrt(n^T C n) down-weights the plane. Zero (the default): the
+  // trajectory is taken as right and every bias is the map's.
+  void SetTrajectoryCovariance(const Eigen::Matrix3d& position_covariance_in_map);
 
   // Plane by id (as in planes.json). Throws std::out_of_range for an unknown id.
   const MapPlane& plane(int id) const;
@@ -155,6 +161,7 @@ class PlaneAssociator {
   std::unordered_map<int, std::size_t> index_by_id_;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
   std::vector<std::size_t> unbounded_;  // planes without an outline: tested everywhere
+  Eigen::Matrix3d trajectory_covariance_ = Eigen::Matrix3d::Zero();
   int num_disabled_ = 0;
   int windows_ = 0;
   long long total_associations_ = 0;

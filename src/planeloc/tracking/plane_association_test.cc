@@ -204,6 +204,75 @@ TEST(PlaneAssociationTest, BiasedPlaneIsDisabledAfterEnoughBas) {
   EXPECT_EQ(planes.Associate(point(0, 0.0))->plane_id, 0);
 }
 
+// Right after a map lock the trajectory itself may be off by the lock's error e: every point of a
+// plane facing along e then sits n.e off it. That is not the map's fault (issue 9: a 0.12 m
+// along-track lock error disabled the one correct wall across the road, and the error stayed).
+TEST(PlaneAssociationTest, TrajectoryUncertaintyExplainsABiasButNotAGrossOne) {
+  PlaneMap map;
+  // A wall across the road (normal along z, the driving direction) and a facade (normal x).
+  map.planes.push_back(MakePlane(0, Plane(Eigen::Vector3d(0, 0, 1), -10.0),
+                                 {{0, 0, 10}, {9, 0, 10}, {9, 5, 10}, {0, 5, 10}}, 45));
+  map.planes.push_back(MakePlane(1, Plane(Eigen::Vector3d(1, 0, 0), -6.0),
+                                 {{6, 0, 0}, {6, 5, 0}, {6, 5, 9}, {6, 0, 9}}, 45));
+  PlaneAssociationOptions options;
+  options.map_sigma = 0.03;
+  options.bias_min = 0.06;
+  options.bias_min_points = 40;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.03);
+  std::uniform_real_distribution<double> in_plane(0.5, 8.5), up(0.5, 4.5);
+  // Records 60 points of each plane, every point moved by `camera_error` (the trajectory's).
+  auto record = [&](PlaneAssociator& planes, const Eigen::Vector3d& camera_error) {
+    int id = 0;
+    for (int round = 0; round < 3; ++round) {
+      for (int i = 0; i < 20; ++i) {
+        PointEstimate wall, facade;
+        wall.point_in_map = Eigen::Vector3d(in_plane(rng), up(rng), 10.0 + noise(rng));
+        facade.point_in_map = Eigen::Vector3d(6.0 + noise(rng), up(rng), in_plane(rng));
+        for (PointEstimate* e : {&wall, &facade}) {
+          e->point_in_map += camera_error;
+          e->covariance = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
+          planes.Record(id++, *e);
+        }
+      }
+      planes.UpdateHealth(40);
+    }
+  };
+  // The lock placed the camera with sigma 0.1 m along-track (z), 0.02 m laterally (x).
+  const Eigen::Matrix3d lock_covariance =
+      Eigen::Vector3d(0.02 * 0.02, 0.02 * 0.02, 0.1 * 0.1).asDiagonal();
+  const Eigen::Vector3d along_error(0.0, 0.0, 0.12);  // 1.2 sigma of the lock
+
+  PlaneAssociator without(map, options);
+  record(without, along_error);
+  EXPECT_TRUE(without.health(0).disabled);  // today's rule blames the wall
+  EXPECT_FALSE(without.health(1).disabled);
+
+  PlaneAssociator with(map, options);
+  with.SetTrajectoryCovariance(lock_covariance);
+  const double sigma0 = with.PlaneSigma(0);
+  record(with, along_error);
+  EXPECT_FALSE(with.health(0).disabled);
+  EXPECT_NEAR(with.health(0).median, 0.12, 0.02);
+  // 0.12 m seen, 0.10 m explained: at most ~0.02 m (+ noise) of bias joins the wall's sigma.
+  EXPECT_LT(with.PlaneSigma(0), std::hypot(sigma0, 0.04));
+  EXPECT_EQ(with.Associate([&] {
+                  PointEstimate e;
+                  e.point_in_map = Eigen::Vector3d(4, 2, 10.0);
+                  e.covariance = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
+                  return e;
+                }())
+                ->plane_id,
+            0);
+
+  // A lateral bias of 0.3 m is 15 sigma of the lock's lateral error: the facade is wrong.
+  PlaneAssociator gross(map, options);
+  gross.SetTrajectoryCovariance(lock_covariance);
+  record(gross, Eigen::Vector3d(0.3, 0.0, 0.0));
+  EXPECT_TRUE(gross.health(1).disabled);
+  EXPECT_FALSE(gross.health(0).disabled);
+}
+
 TEST(PlaneAssociationTest, OptionsCheck) {
   PlaneAssociationOptions options;
   options.max_distance = 0;

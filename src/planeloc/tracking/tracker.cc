@@ -422,6 +422,10 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   const auto ba_start = Clock::now();
   BaJob job;
   job.keyframe_id = kf_id;
+  if (planes_ && settle_until_keyframe_id_ >= 0 && kf_id >= settle_until_keyframe_id_) {
+    planes_->SetTrajectoryCovariance(Eigen::Matrix3d::Zero());
+    settle_until_keyframe_id_ = -1;
+  }
   // Before the map lock the planes' frame is unknown: visual BA only.
   const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
   job.problem =
@@ -495,6 +499,12 @@ void Tracker::ApplyCorrection(const MapCorrection& correction, Frame* current, i
   if (last_frame_) last_frame_->cam_from_world = last_frame_->cam_from_world * world_from_map;
   if (current) current->cam_from_world = current->cam_from_world * world_from_map;
   ++correction_epoch_;
+  if (planes_) {
+    // Until the window BA has pulled the trajectory onto the planes, a plane's points may sit off
+    // it by the lock's own error: that is no evidence against the plane.
+    planes_->SetTrajectoryCovariance(correction.camera_position_covariance);
+    settle_until_keyframe_id_ = map_.last_keyframe_id() + options_.map_lock.settle_keyframes;
+  }
   lock_events_.push_back(
       {frame_id, locker_->state(), map_from_world, correction.first_keyframe_id});
 }

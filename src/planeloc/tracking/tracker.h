@@ -138,6 +138,8 @@ class Tracker {
   std::vector<LockEvent> lock_events_;
   // Corrections applied so far; a BA result computed before the latest one is dropped.
   int correction_epoch_ = 0;
+  // Keyframe id from which plane bias statistics stop allowing for the last lock's error; -1: none.
+  int settle_until_keyframe_id_ = -1;
   std::map<int, int> ba_job_epoch_;  // keyframe id of a submitted BA -> epoch at submission
   Rigid3d cam_from_world_initial_;
 
