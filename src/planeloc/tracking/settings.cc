@@ -105,6 +105,34 @@ const std::vector<Key>& Keys() {
       D("Planes.biasMin", [](O& o) -> double& { return o.planes.bias_min; }),
       D("Planes.biasSignificance", [](O& o) -> double& { return o.planes.bias_significance; }),
       I("Planes.biasMinPoints", [](O& o) -> int& { return o.planes.bias_min_points; }),
+      // Map registration and lock from a coarse start (docs/map-registration.md).
+      I("MapLock.attemptEveryKeyframes",
+        [](O& o) -> int& { return o.map_lock.attempt_every_keyframes; }),
+      I("MapLock.structureKeyframes", [](O& o) -> int& { return o.map_lock.structure_keyframes; }),
+      D("MapLock.maxPointDistance", [](O& o) -> double& { return o.map_lock.max_point_distance; }),
+      D("MapLock.disparitySigma", [](O& o) -> double& { return o.map_lock.disparity_sigma_px; }),
+      D("MapLock.driftFraction", [](O& o) -> double& { return o.map_lock.drift_fraction; }),
+      D("MapLock.driftYawDegPer100m",
+        [](O& o) -> double& { return o.map_lock.drift_yaw_deg_per_100m; }),
+      D("MapLock.lostSigmaHorizontal",
+        [](O& o) -> double& { return o.map_lock.lost_sigma_horizontal; }),
+      D("MapLock.lostSigmaVertical",
+        [](O& o) -> double& { return o.map_lock.lost_sigma_vertical; }),
+      D("MapLock.lostSigmaYawDeg", [](O& o) -> double& { return o.map_lock.lost_sigma_yaw_deg; }),
+      I("MapLock.settleKeyframes", [](O& o) -> int& { return o.map_lock.settle_keyframes; }),
+      D("MapLock.minInlierRatio",
+        [](O& o) -> double& { return o.map_lock.registration.min_inlier_ratio; }),
+      D("MapLock.maxWhitenedRms",
+        [](O& o) -> double& { return o.map_lock.registration.max_whitened_rms; }),
+      D("MapLock.minMargin", [](O& o) -> double& { return o.map_lock.registration.min_margin; }),
+      D("MapLock.maxDofSigma",
+        [](O& o) -> double& { return o.map_lock.registration.max_dof_sigma; }),
+      D("MapLock.maxYawSigmaDeg",
+        [](O& o) -> double& { return o.map_lock.registration.max_dof_sigma_deg; }),
+      D("MapLock.maxTiltSigmaDeg",
+        [](O& o) -> double& { return o.map_lock.registration.max_tilt_sigma_deg; }),
+      D("MapLock.noiseInflation",
+        [](O& o) -> double& { return o.map_lock.registration.noise_inflation; }),
       B("System.deterministic", [](O& o) -> bool& { return o.deterministic; }),
       I("System.threads", [](O& o) -> int& { return o.num_threads; }),
   };
@@ -228,6 +256,7 @@ void TrackerOptions::Check() const {
           "ba_window_keyframes_turn must be >= ba_window_keyframes");
   Require(ba_turn_angle_deg > 0.0, "ba_turn_angle_deg must be > 0");
   planes.Check();
+  map_lock.Check();
   Require(min_found_ratio >= 0 && min_found_ratio <= 1, "min_found_ratio must be in [0, 1]");
   Require(min_point_observations >= 1, "min_point_observations must be >= 1");
   Require(num_threads >= 1, "num_threads must be >= 1");

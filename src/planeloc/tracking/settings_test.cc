@@ -246,6 +246,16 @@ TEST(SettingsTest, ReadsPlanelocKeysWithoutHeaderNestedMapsAndFlags) {
   EXPECT_EQ(nested.options.num_threads, 3);
   EXPECT_TRUE(nested.options.triangulate_with_neighbours);
 
+  // Map-lock keys reach the locker's options (nested registration thresholds included).
+  const SettingsFile lock = LoadTrackerSettings(
+      WriteFile(dir, "%YAML:1.0\nMapLock.settleKeyframes: 12\nMapLock.maxTiltSigmaDeg: 0.8\n"),
+      TrackerOptions{});
+  EXPECT_EQ(lock.options.map_lock.settle_keyframes, 12);
+  EXPECT_DOUBLE_EQ(lock.options.map_lock.registration.max_tilt_sigma_deg, 0.8);
+  EXPECT_THROW(LoadTrackerSettings(WriteFile(dir, "%YAML:1.0\nMapLock.settleKeyframes: -1\n"),
+                                   TrackerOptions{}),
+               InputError);
+
   const SettingsFile empty = LoadTrackerSettings(WriteFile(dir, "%YAML:1.0\n# nothing\n"), {});
   EXPECT_EQ(empty.options.orb.num_features, TrackerOptions{}.orb.num_features);
 }
