@@ -80,17 +80,18 @@ int Run(const RunArgs& args) {
     if (options.start_prior.Exact()) {
       spdlog::info(
           "map lock: exact start (--init-sigma \"0 0 0\"), plane constraints from frame 0");
-    } else {
-      for (const LockEvent& event : summary.lock_events) {
-        const Eigen::Vector3d t = event.map_from_world.translation;
-        spdlog::info(
-            "map lock: {} at frame {} (keyframes from {}): correction {:.3f} m [{:.3f} {:.3f} "
-            "{:.3f}], {:.3f} deg",
-            MapLockName(event.lock), event.frame, event.first_keyframe_id, t.norm(), t.x(), t.y(),
-            t.z(),
-            RotationAngle(event.map_from_world.rotation, Eigen::Quaterniond::Identity()) * 180.0 /
-                std::numbers::pi);
-      }
+    }
+    for (const LockEvent& event : summary.lock_events) {
+      const Eigen::Vector3d t = event.map_from_world.translation;
+      spdlog::info(
+          "map lock: {} at frame {} (keyframes from {}): correction {:.3f} m [{:.3f} {:.3f} "
+          "{:.3f}], {:.3f} deg",
+          event.recorrection ? "re-registered" : MapLockName(event.lock), event.frame,
+          event.first_keyframe_id, t.norm(), t.x(), t.y(), t.z(),
+          RotationAngle(event.map_from_world.rotation, Eigen::Quaterniond::Identity()) * 180.0 /
+              std::numbers::pi);
+    }
+    if (!options.start_prior.Exact()) {
       if (summary.final_map_lock == "searching") {
         spdlog::warn(
             "{}: the run never registered itself to the plane map (map lock: searching); the "

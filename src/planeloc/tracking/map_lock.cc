@@ -37,6 +37,14 @@ void MapLockOptions::Check() const {
   }
   if (structure_keyframes < 1) throw OptionsError("MapLock.structureKeyframes must be >= 1");
   if (settle_keyframes < 0) throw OptionsError("MapLock.settleKeyframes must be >= 0");
+  if (maintain_every_keyframes < 0) {
+    throw OptionsError("MapLock.maintainEveryKeyframes must be >= 0 (0: never)");
+  }
+  for (const double value :
+       {maintain_sigma_horizontal, maintain_sigma_vertical, maintain_sigma_yaw_deg,
+        min_recorrection, recorrection_sigmas, min_recorrection_deg}) {
+    if (!(value >= 0)) throw OptionsError("MapLock maintenance sigmas and thresholds must be >= 0");
+  }
   if (!(max_point_distance > 0)) throw OptionsError("MapLock.maxPointDistance must be > 0 (m)");
   if (!(disparity_sigma_px > 0)) throw OptionsError("MapLock.disparitySigma must be > 0 (px)");
   for (const double value :
@@ -69,13 +77,14 @@ std::string RegistrationReport::ToJson() const {
   const Eigen::Vector3d ct = result.candidate_map_from_world.translation;
   const Eigen::Quaterniond& cq = result.candidate_map_from_world.rotation;
   return fmt::format(
-      "{{\"keyframe\":{},\"lock\":\"{}\",\"points\":{},\"inliers\":{},\"inlier_ratio\":{},"
+      "{{\"keyframe\":{},\"maintenance\":{},\"applied\":{},\"lock\":\"{}\",\"points\":{},"
+      "\"inliers\":{},\"inlier_ratio\":{},"
       "\"rms\":{},\"whitened_rms\":{},\"margin\":{},\"hypotheses\":{},\"constrained\":[{}],\"dof_"
       "sigma\":{{{}}},"
       "\"information_eigenvalues\":[{}],\"correction\":{{\"translation\":[{:.4f},{:.4f},{:.4f}],"
       "\"angle_deg\":{:.4f}}},\"candidate\":{{\"translation\":[{:.4f},{:.4f},{:.4f}],"
       "\"rotation_xyzw\":[{:.6f},{:.6f},{:.6f},{:.6f}]}},\"reason\":\"{}\"}}",
-      keyframe_id, MapLockName(lock_after), result.points, result.inliers,
+      keyframe_id, maintenance, applied, MapLockName(lock_after), result.points, result.inliers,
       JsonNumber(result.inlier_ratio, 4), JsonNumber(result.rms, 4),
       JsonNumber(result.whitened_rms, 3), JsonNumber(result.margin, 3), result.hypotheses, dofs,
       sigmas, eigenvalues, t.x(), t.y(), t.z(),
@@ -118,8 +127,12 @@ RegistrationPrior MapLocker::CurrentPrior(const Eigen::Vector3d& camera_in_world
 }
 
 void MapLocker::OnKeyframe(const SparseMap& map, int keyframe_id, const StereoCamera& camera) {
-  if (state_ == MapLock::kLocked || keyframe_id < segment_first_keyframe_) return;
-  if (++keyframes_since_attempt_ < options_.attempt_every_keyframes) return;
+  if (keyframe_id < segment_first_keyframe_) return;
+  const bool maintenance = state_ == MapLock::kLocked;
+  if (maintenance && options_.maintain_every_keyframes == 0) return;
+  const int every =
+      maintenance ? options_.maintain_every_keyframes : options_.attempt_every_keyframes;
+  if (++keyframes_since_attempt_ < every) return;
   {
     std::lock_guard lock(mutex_);
     if (pending_ || running_) return;  // the next keyframe tries again
@@ -130,11 +143,14 @@ void MapLocker::OnKeyframe(const SparseMap& map, int keyframe_id, const StereoCa
   Job job;
   job.segment = segment_;
   job.keyframe_id = keyframe_id;
+  job.first_keyframe_id = keyframe_id;
+  job.maintenance = maintenance;
   std::set<int> point_ids;
   int taken = 0;
   for (auto it = map.keyframes().rbegin();
        it != map.keyframes().rend() && taken < options_.structure_keyframes; ++it, ++taken) {
     if (it->first < segment_first_keyframe_) break;
+    job.first_keyframe_id = it->first;
     for (const int id : it->second.map_point_ids) {
       if (id >= 0) point_ids.insert(id);
     }
@@ -144,7 +160,10 @@ void MapLocker::OnKeyframe(const SparseMap& map, int keyframe_id, const StereoCa
     if (!map.HasPoint(id)) continue;
     const MapPoint& point = map.point(id);
     if (static_cast<int>(point.observations.size()) < options_.min_point_observations) continue;
-    if (point.first_keyframe_id < segment_first_keyframe_) continue;
+    // A re-registration registers only what its correction moves (points created by the
+    // structure's keyframes).
+    if (point.first_keyframe_id < (maintenance ? job.first_keyframe_id : segment_first_keyframe_))
+      continue;
     if (!map.HasKeyframe(point.reference_keyframe_id)) continue;
     const double distance =
         (point.point_in_world - map.keyframe(point.reference_keyframe_id).CameraCenter()).norm();
@@ -152,7 +171,15 @@ void MapLocker::OnKeyframe(const SparseMap& map, int keyframe_id, const StereoCa
     job.points.push_back({point.point_in_world, distance * distance * depth_scale});
   }
   job.world_from_camera = map.keyframe(keyframe_id).cam_from_world.Inverse();
-  job.prior = CurrentPrior(job.world_from_camera.translation);
+  if (maintenance) {
+    // Around the current estimate, pivoted at the camera; roll and pitch as at the start.
+    job.prior = RegistrationPrior::FromSigmas(
+        job.world_from_camera.translation, up_in_world_, options_.maintain_sigma_horizontal,
+        options_.maintain_sigma_vertical, options_.maintain_sigma_yaw_deg * kDegree,
+        options_.registration.sigma_tilt_deg * kDegree);
+  } else {
+    job.prior = CurrentPrior(job.world_from_camera.translation);
+  }
 
   if (!thread_.joinable()) {
     job.result = registration_.Register(job.points, job.prior, job.world_from_camera);
@@ -216,7 +243,21 @@ std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLo
   report.result = *job.result;
   report.lock_after = state_;
   if (job.segment != segment_) return std::nullopt;  // a loss since: its frame is gone
+  report.maintenance = job.maintenance;
   std::optional<MapCorrection> correction;
+  if (job.maintenance) {
+    if (state_ != MapLock::kLocked || report.result.lock == MapLock::kSearching) {
+      return std::make_pair(report, correction);
+    }
+    if (!SignificantRecorrection(report.result, job.world_from_camera)) {
+      report.result.reason = "consistent with the map (below the re-correction threshold)";
+      return std::make_pair(report, correction);
+    }
+    correction = MapCorrection{report.result.map_from_world, job.first_keyframe_id,
+                               report.result.camera_position_covariance, /*recorrection=*/true};
+    report.applied = true;
+    return std::make_pair(report, correction);
+  }
   const MapLock found = report.result.lock;
   // A partial result never downgrades a partial lock; a full one completes any.
   const bool improves =
@@ -226,6 +267,8 @@ std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLo
                                report.result.camera_position_covariance};
     state_ = found;
     report.lock_after = found;
+    report.applied = true;
+    keyframes_since_attempt_ = 0;
     if (found == MapLock::kPartial) {
       // Next attempt: the registered DoF are known; along-track keeps its prior, now pivoted at
       // the camera (in the corrected frame).
@@ -243,6 +286,25 @@ std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLo
     }
   }
   return std::make_pair(report, correction);
+}
+
+bool MapLocker::SignificantRecorrection(const RegistrationResult& result,
+                                        const Rigid3d& world_from_camera) const {
+  const Eigen::Vector3d camera = world_from_camera.translation;
+  const Eigen::Vector3d moved = result.map_from_world * camera - camera;
+  const Eigen::Vector3d up = up_in_world_.normalized();
+  Eigen::Vector3d along = world_from_camera.rotation * Eigen::Vector3d::UnitZ();
+  along = (along - along.dot(up) * up).normalized();
+  const Eigen::Vector3d axes[3] = {along, up.cross(along), up};  // kAlongTrack, kLateral, ...
+  for (int dof = kAlongTrack; dof <= kVertical; ++dof) {
+    if (!result.constrained[dof]) continue;
+    const double threshold =
+        std::max(options_.min_recorrection, options_.recorrection_sigmas * result.dof_sigma[dof]);
+    if (std::abs(moved.dot(axes[dof])) > threshold) return true;
+  }
+  const double angle =
+      RotationAngle(result.map_from_world.rotation, Eigen::Quaterniond::Identity());
+  return angle > options_.min_recorrection_deg * kDegree;
 }
 
 void MapLocker::OnLoss(const Rigid3d& world_from_cam, int next_keyframe_id) {

@@ -61,6 +61,20 @@ struct MapLockOptions {
   // After a correction, plane bias statistics allow for the lock's position uncertainty during
   // this many keyframes (the window BA then pulls the trajectory onto the planes).
   int settle_keyframes = 30;
+  // Once locked: a re-registration every N keyframes (0: never), with a tight prior around the
+  // current estimate. The window BA only sees points within the association band of a plane
+  // (Planes.maxDistance), so an error beyond it (a lock onto a wrong plane of the map, drift
+  // through a stretch without planes) is never pulled back by the BA; the registration, which
+  // searches, can. Its correction is applied only when it moves the current camera by more than
+  // max(min_recorrection, recorrection_sigmas x its sigma) in a registered DoF, or turns it by
+  // more than min_recorrection_deg: smaller errors are the BA's.
+  int maintain_every_keyframes = 10;
+  double maintain_sigma_horizontal = 0.5;  // metres
+  double maintain_sigma_vertical = 0.4;    // metres
+  double maintain_sigma_yaw_deg = 2.0;
+  double min_recorrection = 0.15;  // metres
+  double recorrection_sigmas = 3.0;
+  double min_recorrection_deg = 1.0;
   void Check() const;
 };
 
@@ -72,6 +86,7 @@ struct MapCorrection {
   // How well the correction places the current camera in the map (m^2, map axes): what a plane's
   // points may sit off it right after the lock without the plane being wrong.
   Eigen::Matrix3d camera_position_covariance = Eigen::Matrix3d::Zero();
+  bool recorrection = false;  // by a re-registration while locked
 };
 
 // One registration attempt, as reported in the stats.
@@ -79,6 +94,8 @@ struct RegistrationReport {
   int keyframe_id = 0;  // the attempt's last keyframe
   MapLock lock_before = MapLock::kSearching;
   MapLock lock_after = MapLock::kSearching;
+  bool maintenance = false;  // a re-registration while locked
+  bool applied = false;      // its correction was applied
   RegistrationResult result;
   std::string ToJson() const;
 };
@@ -111,12 +128,17 @@ class MapLocker {
   struct Job {
     int segment = 0;
     int keyframe_id = 0;
+    int first_keyframe_id = 0;  // oldest keyframe whose points are in `points`
+    bool maintenance = false;
     std::vector<RegistrationPoint> points;
     RegistrationPrior prior;
     Rigid3d world_from_camera;
     std::optional<RegistrationResult> result;
   };
   RegistrationPrior CurrentPrior(const Eigen::Vector3d& camera_in_world) const;
+  // Whether a re-registration's correction is beyond what the window BA pulls back.
+  bool SignificantRecorrection(const RegistrationResult& result,
+                               const Rigid3d& world_from_camera) const;
   void Run(std::stop_token stop);
   std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> Finish(Job job);
 

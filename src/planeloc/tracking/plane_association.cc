@@ -320,6 +320,16 @@ void PlaneAssociator::SetTrajectoryCovariance(const Eigen::Matrix3d& position_co
   trajectory_covariance_ = position_covariance_in_map;
 }
 
+void PlaneAssociator::ResetHealth() {
+  for (FlatPlane& flat : planes_) {
+    flat.health = PlaneHealth{};
+    flat.bias2 = 0;
+    flat.distance_by_point.clear();
+    flat.touched = false;
+  }
+  num_disabled_ = 0;
+}
+
 const MapPlane& PlaneAssociator::plane(int id) const {
   const auto it = index_by_id_.find(id);
   if (it == index_by_id_.end()) {

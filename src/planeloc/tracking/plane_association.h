@@ -129,6 +129,10 @@ class PlaneAssociator {
   // part of the bias beyond sqrt(n^T C n) down-weights the plane. Zero (the default): the
   // trajectory is taken as right and every bias is the map's.
   void SetTrajectoryCovariance(const Eigen::Matrix3d& position_covariance_in_map);
+  // Forgets every plane's statistics and re-enables the disabled ones: after a correction of the
+  // map frame (a lock, a re-registration) the biases seen before it measured the trajectory's
+  // error as much as the planes'. A plane that is really wrong is disabled again.
+  void ResetHealth();
 
   // Plane by id (as in planes.json). Throws std::out_of_range for an unknown id.
   const MapPlane& plane(int id) const;
@@ -136,7 +140,7 @@ class PlaneAssociator {
   // sqrt(rms^2 + map_sigma^2 + bias^2) of an enabled plane, metres.
   double PlaneSigma(int id) const;
   std::size_t size() const { return planes_.size(); }
-  int num_disabled() const { return num_disabled_; }
+  int num_disabled() const { return num_disabled_; }  // currently disabled
 
  private:
   struct FlatPlane {

@@ -247,6 +247,14 @@ TEST(PlaneAssociationTest, TrajectoryUncertaintyExplainsABiasButNotAGrossOne) {
   record(without, along_error);
   EXPECT_TRUE(without.health(0).disabled);  // today's rule blames the wall
   EXPECT_FALSE(without.health(1).disabled);
+  // A correction of the map frame voids that evidence: the wall is re-enabled and re-judged.
+  without.ResetHealth();
+  EXPECT_FALSE(without.health(0).disabled);
+  EXPECT_EQ(without.health(0).points, 0);
+  EXPECT_EQ(without.num_disabled(), 0);
+  record(without, Eigen::Vector3d::Zero());
+  EXPECT_FALSE(without.health(0).disabled);
+  EXPECT_LT(std::abs(without.health(0).median), 0.02);
 
   PlaneAssociator with(map, options);
   with.SetTrajectoryCovariance(lock_covariance);

@@ -502,11 +502,12 @@ void Tracker::ApplyCorrection(const MapCorrection& correction, Frame* current, i
   if (planes_) {
     // Until the window BA has pulled the trajectory onto the planes, a plane's points may sit off
     // it by the lock's own error: that is no evidence against the plane.
+    planes_->ResetHealth();
     planes_->SetTrajectoryCovariance(correction.camera_position_covariance);
     settle_until_keyframe_id_ = map_.last_keyframe_id() + options_.map_lock.settle_keyframes;
   }
-  lock_events_.push_back(
-      {frame_id, locker_->state(), map_from_world, correction.first_keyframe_id});
+  lock_events_.push_back({frame_id, locker_->state(), map_from_world, correction.first_keyframe_id,
+                          correction.recorrection});
 }
 
 void Tracker::Finish() {

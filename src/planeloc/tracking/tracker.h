@@ -71,6 +71,7 @@ struct LockEvent {
   MapLock lock = MapLock::kSearching;
   Rigid3d map_from_world;  // applied to the keyframes and points of the segment
   int first_keyframe_id = 0;
+  bool recorrection = false;  // a re-registration while locked, not the lock itself
 };
 
 struct TrackResult {
