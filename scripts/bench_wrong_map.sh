@@ -6,7 +6,9 @@
 # Prints one table row per seed: seed vo clean move0.1 move0.2 move0.3 rot2 (metres).
 #
 # Usage: scripts/bench_wrong_map.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
-#        [--config FILE] [--tag NAME]
+#        [--config FILE] [--tag NAME] [--init-sigma "S_XY S_Z S_YAW_DEG"]
+# The plane-mode runs start from the exact GT pose with --init-sigma "0 0 0" by default, so the
+# numbers measure the association alone (a coarse start adds the map lock: pass the prior).
 # Data (simulator output, maps) is reused from DIR/<preset>-<seed>/ when present; runs go to
 # DIR/<preset>-<seed>/<tag>/ (tag "run" by default; PLANELOC_BIN picks another binary).
 set -euo pipefail
@@ -17,6 +19,7 @@ seeds="3 11 21"
 out=/tmp/planeloc-bench-wrong-map
 config=()
 tag=run
+init_sigma="0 0 0"
 while [ $# -gt 0 ]; do
   case "$1" in
     --preset) preset="$2"; shift 2 ;;
@@ -24,7 +27,8 @@ while [ $# -gt 0 ]; do
     --out) out="$2"; shift 2 ;;
     --config) config=(--config "$2"); shift 2 ;;
     --tag) tag="$2"; shift 2 ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    --init-sigma) init_sigma="$2"; shift 2 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "bench_wrong_map.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -63,8 +67,8 @@ for seed in $seeds; do
   for kind in vo clean move0.1 move0.2 move0.3 rot2; do
     case "$kind" in
       vo) maparg=(--no-planes) ;;
-      clean) maparg=(--planes "$d/planes.json") ;;
-      *) maparg=(--planes "$d/planes_$kind.json") ;;
+      clean) maparg=(--planes "$d/planes.json" --init-sigma "$init_sigma") ;;
+      *) maparg=(--planes "$d/planes_$kind.json" --init-sigma "$init_sigma") ;;
     esac
     "$planeloc" run --sequence "$seq" --init-pose-from "$poses" "${maparg[@]}" "${config[@]}" \
       --deterministic --out "$r/traj_$kind.txt" --stats "$r/stats_$kind.jsonl" \
