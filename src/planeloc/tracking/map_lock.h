@@ -72,8 +72,8 @@ struct MapLockOptions {
   double maintain_sigma_horizontal = 0.5;  // metres
   double maintain_sigma_vertical = 0.4;    // metres
   double maintain_sigma_yaw_deg = 2.0;
-  double min_recorrection = 0.15;  // metres
-  double recorrection_sigmas = 3.0;
+  double min_recorrection = 0.15;    // metres
+  double recorrection_sigmas = 1.5;  // of the (inflated, see noise_inflation) DoF sigma
   double min_recorrection_deg = 1.0;
   void Check() const;
 };
