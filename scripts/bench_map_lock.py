@@ -14,6 +14,7 @@ Usage: scripts/bench_map_lock.py [--planeloc build/bin/planeloc] [--work /tmp/pl
          [--preset small] [--seeds 3 11] [--draws 20] [--sigma "2 0.5 5"] [--json out.json]
 """
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -184,6 +185,8 @@ def main():
     args = ap.parse_args()
     s_xy, s_z, s_yaw = (float(x) for x in args.sigma.split())
 
+    with open(args.planeloc, "rb") as f:
+        binary_id = hashlib.sha1(f.read()).hexdigest()[:10]
     rows = []
     for seed in args.seeds:
         work, seq, poses, planes, log = prepare(args, args.preset, seed)
@@ -191,11 +194,12 @@ def main():
         dist = distances(gt)
         corner = first_corner_end(gt)
         exact_pose = " ".join(f"{x:.9f}" for x in gt[0])
-        # References on the same frames: exact start with planes, and visual odometry.
-        ref = os.path.join(work, "exact")
+        # References on the same frames, by the same binary (cached per binary): exact start
+        # with planes, and visual odometry.
+        ref = os.path.join(work, f"exact-{binary_id}")
         if not os.path.exists(ref + ".txt"):
             run_plane_mode(args, seq, planes, exact_pose, "0 0 0", ref, log)
-        vo = os.path.join(work, "vo")
+        vo = os.path.join(work, f"vo-{binary_id}")
         if not os.path.exists(vo + ".txt"):
             run([args.planeloc, "run", "--sequence", seq, "--init-pose", exact_pose, "--no-planes",
                  "--out", vo + ".txt", "--deterministic"], log)
