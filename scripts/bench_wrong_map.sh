@@ -3,7 +3,8 @@
 # map, and wrong copies of it (20 % of the used planes moved by 0.1 / 0.2 / 0.3 m along their
 # normal, or rotated by 2 degrees; scripts/corrupt_planes.py); then ATE (no alignment: the map
 # fixes the frame) of `planeloc run --deterministic` with each map and with --no-planes (VO).
-# Prints one table row per seed: seed vo clean move0.1 move0.2 move0.3 rot2 (metres).
+# Also a "noisy" map: built from the GT poses with 5 cm / 0.2 deg noise (scripts/noisy_poses.py).
+# Prints one table row per seed: seed vo clean move0.1 move0.2 move0.3 rot2 noisy (metres).
 #
 # Usage: scripts/bench_wrong_map.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
 #        [--config FILE] [--tag NAME] [--init-sigma "S_XY S_Z S_YAW_DEG"]
@@ -28,7 +29,7 @@ while [ $# -gt 0 ]; do
     --config) config=(--config "$2"); shift 2 ;;
     --tag) tag="$2"; shift 2 ;;
     --init-sigma) init_sigma="$2"; shift 2 ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) echo "bench_wrong_map.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -39,7 +40,7 @@ ate() {  # ATE RMSE of a trajectory, metres
     "$2.ate.json"
 }
 echo "preset $preset, binary $planeloc"
-echo "seed vo clean move0.1 move0.2 move0.3 rot2"
+echo "seed vo clean move0.1 move0.2 move0.3 rot2 noisy"
 for seed in $seeds; do
   d="$out/$preset-$seed"
   mkdir -p "$d"
@@ -59,12 +60,20 @@ for seed in $seeds; do
     python3 "$root/scripts/corrupt_planes.py" "$d/planes.json" "$d/planes_$kind.json" \
       --seed "$seed" --fraction 0.2 "${arg[@]}" 2>>"$d/log.txt"
   done
+  # Noisy map: the LiDAR map accumulated from poses with 5 cm / 0.2 deg noise per axis.
+  if [ ! -f "$d/planes_noisy.json" ]; then
+    python3 "$root/scripts/noisy_poses.py" "$d/sim/poses/00.txt" "$d/poses_noisy.txt" \
+      --seed "$seed" --sigma-t 0.05 --sigma-r-deg 0.2
+    "$planeloc" map build --sequence "$d/sim/sequences/00" --poses "$d/poses_noisy.txt" \
+      --out "$d/map_noisy.pcd" --voxel 0.10 >>"$d/log.txt" 2>&1
+    "$planeloc" map planes --map "$d/map_noisy.pcd" --out "$d/planes_noisy.json" >>"$d/log.txt" 2>&1
+  fi
   seq="$d/sim/sequences/00"
   poses="$d/sim/poses/00.txt"
   r="$d/$tag"
   mkdir -p "$r"
   row="$seed"
-  for kind in vo clean move0.1 move0.2 move0.3 rot2; do
+  for kind in vo clean move0.1 move0.2 move0.3 rot2 noisy; do
     case "$kind" in
       vo) maparg=(--no-planes) ;;
       clean) maparg=(--planes "$d/planes.json" --init-sigma "$init_sigma") ;;
