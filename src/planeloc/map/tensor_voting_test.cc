@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
+#include <string>
 
 #include "planeloc/map/synthetic_scene_for_test.h"
 #include "planeloc/util/error.h"
@@ -19,11 +22,65 @@ double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
          std::numbers::pi;
 }
 
-TEST(TensorVotingTest, ClassRuleOfThePaper) {
+// The paper's rule (largest of l1-l2, l2-l3, l3 wins) applied to the eigenvalues of OUR
+// normal-space tensor: stick = surface, plate = curve, ball = junction.
+TEST(TensorVotingTest, ClassRuleOnNormalSpaceEigenvalues) {
   EXPECT_EQ(ClassifySaliency(1.0, 0.1, 0.05), SaliencyClass::kSurface);
   EXPECT_EQ(ClassifySaliency(1.0, 0.8, 0.1), SaliencyClass::kCurve);
   EXPECT_EQ(ClassifySaliency(1.0, 0.9, 0.85), SaliencyClass::kJunction);
   EXPECT_EQ(ClassifySaliency(0.0, 0.0, 0.0), SaliencyClass::kJunction);
+}
+
+// The paper states its classes in the tangent (covariance) encoding, where a wall is a "plate"
+// (two large eigenvalues spanning it, normal e3) and an edge a "stick" (one large eigenvalue
+// along it). This checks the mapping to our normal-space classes on three point sets whose
+// paper class is computed here, independently, from the covariance of the points around the
+// centre point: plate -> kSurface, stick -> kCurve, ball -> kJunction.
+TEST(TensorVotingTest, PaperTangentEncodingMapsToOurClasses) {
+  std::mt19937 rng(17);
+  std::normal_distribution<double> noise(0.0, 0.005);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Eigen::Vector3d> wall, edge, blob;
+  for (double a = -1.0; a <= 1.0; a += 0.05) {
+    for (double b = -1.0; b <= 1.0; b += 0.05) {
+      wall.emplace_back(a + noise(rng), b + noise(rng), noise(rng));  // the plane z = 0
+    }
+    edge.emplace_back(a, noise(rng), noise(rng));  // a line along x
+  }
+  while (blob.size() < 1500) {  // uniform in the unit ball: clutter (a tree crown)
+    const Eigen::Vector3d p(unit(rng), unit(rng), unit(rng));
+    if (p.norm() <= 1.0) blob.push_back(p);
+  }
+  // The paper's (tangent-space) class of the neighbourhood of the point nearest the origin.
+  const double radius = TensorVotingOptions().radius();
+  auto paper_class = [&](const std::vector<Eigen::Vector3d>& points) {
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    int n = 0;
+    for (const Eigen::Vector3d& p : points) {
+      if (p.norm() > radius) continue;
+      covariance += p * p.transpose();
+      ++n;
+    }
+    const Eigen::Vector3d l =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance / n).eigenvalues().reverse();
+    const double stick = l(0) - l(1), plate = l(1) - l(2), ball = l(2);
+    if (stick >= plate && stick >= ball) return std::string("stick");
+    if (plate >= ball) return std::string("plate");
+    return std::string("ball");
+  };
+  auto our_class = [&](const std::vector<Eigen::Vector3d>& points) {
+    std::size_t centre = 0;
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      if (points[i].norm() < points[centre].norm()) centre = i;
+    }
+    return RunTensorVoting(points, TensorVotingOptions()).classes[centre];
+  };
+  EXPECT_EQ(paper_class(wall), "plate");
+  EXPECT_EQ(our_class(wall), SaliencyClass::kSurface);
+  EXPECT_EQ(paper_class(edge), "stick");
+  EXPECT_EQ(our_class(edge), SaliencyClass::kCurve);
+  EXPECT_EQ(paper_class(blob), "ball");
+  EXPECT_EQ(our_class(blob), SaliencyClass::kJunction);
 }
 
 TEST(TensorVotingTest, OptionsCheckNamesTheField) {
