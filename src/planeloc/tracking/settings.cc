@@ -11,6 +11,7 @@
 
 #include "planeloc/tracking/settings_reader.h"
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc {
 namespace {
@@ -339,10 +340,7 @@ std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamer
 void WriteTrackerSettings(const std::filesystem::path& path, const TrackerOptions& options,
                           const StereoCamera& camera, bool calibration_from_settings,
                           const StereoRectifier* rectifier) {
-  std::ofstream out(path);
-  CheckInput(out.good(), path.string(), 0, "cannot write the effective settings",
-             "check that the output folder is writable");
-  out << TrackerSettingsYaml(options, camera, calibration_from_settings, rectifier);
+  WriteFileWhole(path, TrackerSettingsYaml(options, camera, calibration_from_settings, rectifier));
 }
 
 }  // namespace planeloc
