@@ -1,4 +1,5 @@
 // `planeloc run`: stereo visual odometry over a KITTI sequence (see docs/tracking.md).
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -125,6 +126,15 @@ int Run(const RunArgs& args) {
     }
   }
   spdlog::info("trajectory: {}", args.out);
+  // A few skipped frames are bridged by the motion model; a trajectory mostly extrapolated is not
+  // a result (e.g. a right camera that went black after frame 0).
+  CheckInput(2 * summary.skipped <= summary.frames, args.sequence, 0,
+             fmt::format("{} of {} frames were skipped (images missing, corrupt, blank or of "
+                         "another size; the warnings above name them): the trajectory in {} is "
+                         "mostly extrapolated",
+                         summary.skipped, summary.frames, args.out),
+             "repair or re-extract the images named above, or track a stretch without them "
+             "(--frames)");
   return 0;
 }
 

@@ -314,6 +314,15 @@ open(\"image_1/000004.png\",\"wb\").write(b\"\\x89PNG\\r\\n\\x1a\\n\"+chunk(b\"I
 skip_case left_other_size 1 'rm image_0/000001.png; cp ../seq_frame0_right_other_size/image_1/000000.png image_0/000001.png' \
   image_0/000001.png
 
+# Most frames skipped (a right camera that went black after frame 0): the result is no result.
+dir="$work/seq_black_after_0"
+mirror "$seq" "$dir"
+for f in 1 2 3 4; do
+  rm "$dir/image_1/00000$f.png"
+  cp "$work/seq_right_blank/image_1/000004.png" "$dir/image_1/00000$f.png"
+done
+expect 2 "$dir: 4 of 6 frames were skipped" "right camera black after frame 0" "$work/t_black.txt" -- \
+  "$planeloc" run --sequence "$dir" --no-planes --out "$work/t_black.txt" --frames 6
 # Velodyne scans and poses of `map build`.
 dir="$work/seq_velo"
 mirror "$seq" "$dir"

@@ -523,18 +523,10 @@ TEST(KittiSequenceBadInput, BlankImageIsAnError) {
 TEST(KittiSequenceBadInput, TimesNotIncreasing) {
   TempDir dir;
   const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});
-  WriteText(data.folder / "times.txt", "0.0
-0.1
-0.1
-");
-  ExpectInputError([&] {
-    KittiSequence::Open(data.folder); }, "times.txt", 3);
-  WriteText(data.folder / "times.txt", "0
-0
-0
-");  // all zero
-  ExpectInputError([&] {
-    KittiSequence::Open(data.folder); }, "times.txt", 2);
+  WriteText(data.folder / "times.txt", "0.0\n0.1\n0.1\n");
+  ExpectInputError([&] { KittiSequence::Open(data.folder); }, "times.txt", 3);
+  WriteText(data.folder / "times.txt", "0\n0\n0\n");  // all zero
+  ExpectInputError([&] { KittiSequence::Open(data.folder); }, "times.txt", 2);
   TempDir raw_dir;
   const fs::path raw = WriteSyntheticRaw(raw_dir.path(), /*calib_in_parent=*/false);
   std::ifstream in(raw / "image_00" / "timestamps.txt");
@@ -543,8 +535,7 @@ TEST(KittiSequenceBadInput, TimesNotIncreasing) {
   std::getline(in, second);
   in.close();
   WriteText(raw / "image_00" / "timestamps.txt", second + "\n" + first + "\n");
-  ExpectInputError([&] {
-    KittiSequence::Open(raw); }, "image_00/timestamps.txt", 2);
+  ExpectInputError([&] { KittiSequence::Open(raw); }, "image_00/timestamps.txt", 2);
 }
 
 TEST(KittiSequenceBadInput, TimesCountMismatch) {

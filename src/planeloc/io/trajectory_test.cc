@@ -150,12 +150,12 @@ TEST(TrajectoryTest, RotationsThatAreNotRotationsNameFileAndLine) {
   TempDir dir;
   const auto path = dir.path() / "bad.txt";
   const std::string identity = "1 0 0 0 0 1 0 0 0 0 1 0\n";
-  for (const std::string& line : {"2 0 0 1 0 2 0 0 0 0 2 0",           // scaled
-                                  "-1 0 0 1 0 1 0 0 0 0 1 0",          // mirrored
-                                  "1 0.1 0 1 0 1 0 0 0 0 1 0",         // sheared
-                                  "1.01 0 0 1 0 1.01 0 0 0 0 1.01 0",  // 1 % scale
-                                  "0 0 0 1 0 0 0 0 0 0 0 0"}) {
-    WriteText(path, identity + line + "\n");
+  for (const char* line : {"2 0 0 1 0 2 0 0 0 0 2 0",           // scaled
+                           "-1 0 0 1 0 1 0 0 0 0 1 0",          // mirrored
+                           "1 0.1 0 1 0 1 0 0 0 0 1 0",         // sheared
+                           "1.01 0 0 1 0 1.01 0 0 0 0 1.01 0",  // 1 % scale
+                           "0 0 0 1 0 0 0 0 0 0 0 0"}) {
+    WriteText(path, identity + std::string(line) + "\n");
     const InputError e = CatchInputError([&] { ReadKittiTrajectory(path); });
     EXPECT_EQ(e.path(), path.string()) << line;
     EXPECT_EQ(e.line(), 2) << line;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <regex>
 
 #include "planeloc/util/error.h"
 
@@ -154,7 +155,9 @@ std::vector<std::string> LoadMapPlanesOptions(const std::filesystem::path& path,
       } catch (const OptionsError& single) {
         throw InputError(
             path.string(), entry.value.Mark().line + 1,
-            fmt::format("option '{}' = {}: {}", entry.key, YAML::Dump(entry.value), single.what()),
+            // "TensorVotingOptions.sigma must be > 0": the key is named, drop the struct's name.
+            fmt::format("option '{}' = {}: {}", entry.key, YAML::Dump(entry.value),
+                        std::regex_replace(single.what(), std::regex("[A-Za-z]+Options\\."), "")),
             "give the option a value in its range (docs/map.md), or remove it");
       }
     }
