@@ -3,7 +3,8 @@
 # small slices of ../shared/data, runs every reader and subcommand on them and checks, per case:
 #   - the exit code (2 for bad input and failed writes, 0 for mid-sequence defects that are
 #     skipped with a warning);
-#   - that the message names the file, and the line (`file:LINE:`) where there is one;
+#   - that the message names the file, and the line (`file:LINE:`) where there is one, and no
+#     internal options struct (`FooOptions.field`); that stdout holds no log line;
 #   - that every output file is absent, or complete: whole files (maps, JSON, settings echo) only
 #     appear complete, trajectories and stats hold only whole lines; no temporary file is left.
 # Nothing is committed: the sim is generated once into a temporary folder, real data is
@@ -72,6 +73,10 @@ check() {
   fi
   if [ -n "$needle" ] && ! grep -qF -- "$needle" "$work/stderr"; then
     fail "$name: message does not name '$needle'"
+    return
+  fi
+  if grep -qE '[A-Za-z]+Options[.:]' "$work/stderr"; then
+    fail "$name: the message names an internal options struct"
     return
   fi
   if grep -q '^\[.*\] \[\(warning\|info\|error\)\]' "$work/stdout"; then

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <regex>
 #include <sstream>
 
 #include "planeloc/tracking/settings_reader.h"
@@ -173,7 +174,10 @@ void ReportInvalidValues(SettingsReader& reader, const TrackerOptions& defaults)
     try {
       options.Check();
     } catch (const OptionsError& e) {
-      reader.AddError(name, fmt::format("a valid value ({})", e.what()));
+      // The key is named: drop the options struct's name ("OrbOptions: num_features ...").
+      const std::string rule =
+          std::regex_replace(e.what(), std::regex("[A-Za-z]+Options(: |\\.)"), "");
+      reader.AddError(name, fmt::format("a valid value ({})", rule));
       options = defaults;
     }
   }
