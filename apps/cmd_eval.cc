@@ -191,6 +191,7 @@ int Run(const EvalArgs& args) {
   const EvalInputs inputs = LoadEvalInputs(args.gt, args.est, options);
   const EvalReport report = Evaluate(inputs, options);
   std::fputs(FormatReportTable(inputs, options, report).c_str(), stdout);
+  std::fflush(stdout);  // before --json /dev/stdout, which writes through its own stream
   if (!args.json.empty())
     WriteFileWhole(args.json, ReportToJson(inputs, options, report).dump(2) + '\n');
   if (!args.plot.empty()) WritePlot(args, inputs, options, report);
