@@ -9,15 +9,16 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "command_registry.h"
+#include "flags.h"
 #include "planeloc/eval/report.h"
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
 #include "planeloc/util/temp_dir.h"
 
 extern char** environ;
@@ -116,6 +117,8 @@ void WritePlot(const EvalArgs& args, const EvalInputs& inputs, const EvalOptions
   // while Debian's /usr/bin/python3 has python3-matplotlib. Probes are silent.
   std::vector<std::string> pythons = {"python3", "/usr/bin/python3"};
   if (const char* python = std::getenv("PLANELOC_PYTHON")) pythons.insert(pythons.begin(), python);
+  // matplotlib writes a temporary file beside --plot, renamed into place when it succeeded.
+  const std::filesystem::path temporary = TemporaryPathFor(args.plot);
   int code = 127;
   std::string chosen;
   for (const std::string& python : pythons) {
@@ -127,9 +130,13 @@ void WritePlot(const EvalArgs& args, const EvalInputs& inputs, const EvalOptions
     if (probe != 127) code = 3;  // python found, matplotlib missing
   }
   if (!chosen.empty()) {
-    code = RunWithAggBackend({chosen, script.string(), "--csv", csv.string(), "--out", args.plot,
-                              "--plane", plane, "--title", title},
+    code = RunWithAggBackend({chosen, script.string(), "--csv", csv.string(), "--out",
+                              temporary.string(), "--plane", plane, "--title", title},
                              /*quiet=*/false);
+  }
+  if (code != 0 && temporary != args.plot) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
   }
   if (code == 127) {
     throw InputError(args.plot, "--plot needs python3, which was not found",
@@ -140,9 +147,12 @@ void WritePlot(const EvalArgs& args, const EvalInputs& inputs, const EvalOptions
                      "install python3-matplotlib (./scripts/setup.sh) or drop --plot");
   }
   if (code != 0) {
-    throw InputError(args.plot, fmt::format("{} failed with exit code {}", script.string(), code),
-                     "check that the output folder exists and is writable");
+    throw InputError(
+        args.plot,
+        fmt::format("{} failed with exit code {} (its message is above)", script.string(), code),
+        "check the output folder and the free disk space");
   }
+  CommitTemporary(temporary, args.plot);
 }
 
 EvalOptions ToOptions(const EvalArgs& args) {
@@ -168,19 +178,22 @@ EvalOptions ToOptions(const EvalArgs& args) {
 }
 
 int Run(const EvalArgs& args) {
+  CheckFlag(AtLeast(args.max_diff, 0.0), "--max-diff", args.max_diff,
+            "a time difference in seconds, >= 0", "e.g. --max-diff 0.01");
+  CheckFlag(AtLeast(args.rpe_delta, 0.0), "--rpe-delta", args.rpe_delta,
+            "a number >= 0 of --rpe-unit (frames or metres; 0 = no RPE)", "e.g. --rpe-delta 1");
+  CheckOutputPaths({{"--json", args.json}, {"--plot", args.plot}},
+                   {{"--gt", args.gt},
+                    {"--est", args.est},
+                    {"--gt-times", args.gt_times},
+                    {"--est-times", args.est_times}});
   const EvalOptions options = ToOptions(args);
   const EvalInputs inputs = LoadEvalInputs(args.gt, args.est, options);
   const EvalReport report = Evaluate(inputs, options);
   std::fputs(FormatReportTable(inputs, options, report).c_str(), stdout);
-  if (!args.json.empty()) {
-    std::ofstream stream(args.json);
-    if (!stream) {
-      throw InputError(args.json, "cannot open the JSON output for writing",
-                       "check that the folder exists and is writable");
-    }
-    stream << ReportToJson(inputs, options, report).dump(2) << '\n';
-    if (!stream) throw InputError(args.json, "write failed", "check free space");
-  }
+  std::fflush(stdout);  // before --json /dev/stdout, which writes through its own stream
+  if (!args.json.empty())
+    WriteFileWhole(args.json, ReportToJson(inputs, options, report).dump(2) + '\n');
   if (!args.plot.empty()) WritePlot(args, inputs, options, report);
   return 0;
 }
@@ -191,21 +204,26 @@ const CommandRegistrar kRegistrar("eval", [](CLI::App& app) -> CommandRunner {
       "eval", "Trajectory error against ground truth: APE, RPE, KITTI drift (identical to evo)");
   cmd->add_option("--gt", args->gt, "Ground-truth trajectory")->required();
   cmd->add_option("--est", args->est, "Estimated trajectory")->required();
-  cmd->add_option("--format", args->format, "kitti | tum")->capture_default_str();
+  cmd->add_option("--format", args->format, "kitti | tum")
+      ->check(CLI::IsMember({"kitti", "tum"}))
+      ->capture_default_str();
   cmd->add_option("--gt-times", args->gt_times, "KITTI: times.txt of the GT (one line per pose)");
   cmd->add_option("--est-times", args->est_times,
                   "KITTI: times of the estimate; with --gt-times, pair poses by timestamp");
   cmd->add_option("--max-diff", args->max_diff, "Timestamp association tolerance, s")
       ->capture_default_str();
   cmd->add_option("--align", args->align, "none | se3 | sim3 (Umeyama on positions)")
+      ->check(CLI::IsMember({"none", "se3", "sim3"}))
       ->capture_default_str();
   cmd->add_option("--plane", args->plane,
-                  "xz | xy | yz: project after alignment (KITTI ground plane is xz)");
+                  "xz | xy | yz: project after alignment (KITTI ground plane is xz)")
+      ->check(CLI::IsMember({"xz", "xy", "yz"}));
   cmd->add_flag("--plane-before-align", args->plane_before_align,
                 "APE: project before aligning (evo library order) instead of after");
-  cmd->add_option("--rpe-delta", args->rpe_delta, "RPE delta (0 = no RPE)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--rpe-unit", args->rpe_unit, "frames | m")->capture_default_str();
+  cmd->add_option("--rpe-delta", args->rpe_delta, "RPE delta (0 = no RPE)");
+  cmd->add_option("--rpe-unit", args->rpe_unit, "frames | m")
+      ->check(CLI::IsMember({"frames", "f", "m", "meters", "metres"}))
+      ->capture_default_str();
   cmd->add_flag("--rpe-all-pairs", args->rpe_all_pairs,
                 "RPE: every start pose instead of consecutive checkpoints");
   cmd->add_flag("--rpe-pairs-from-reference", args->rpe_pairs_from_reference,

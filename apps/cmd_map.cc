@@ -1,14 +1,17 @@
 // `planeloc map build` (LiDAR scans + poses -> point-cloud map) and `planeloc map planes`
 // (map -> tensor voting -> planes.json). The algorithms live in src/planeloc/map; this file wires
 // files and flags (see docs/map.md).
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "command_registry.h"
+#include "flags.h"
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/io/point_cloud.h"
@@ -17,6 +20,7 @@
 #include "planeloc/map/map_options.h"
 #include "planeloc/map/map_planes.h"
 #include "planeloc/map/plane_map_eval.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc::cli {
 namespace {
@@ -41,8 +45,22 @@ struct PlanesArgs {
 };
 
 int RunBuild(const BuildArgs& args) {
+  const MapBuildOptions& o = args.options;
+  CheckFlag(AtLeast(o.voxel_size, 0.0), "--voxel", o.voxel_size,
+            "a voxel size in metres, >= 0 (0 = keep every point)", "e.g. --voxel 0.1");
+  CheckFlag(o.every >= 1, "--every", o.every, "an integer >= 1 (1 = every scan)", "e.g. --every 5");
+  CheckFlag(AtLeast(o.min_range, 0.0), "--min-range", o.min_range, "a distance in metres, >= 0",
+            "e.g. --min-range 2");
+  CheckFlag(AtLeast(o.max_range, 0.0) && o.max_range > o.min_range, "--max-range", o.max_range,
+            fmt::format("a distance in metres above --min-range ({})", o.min_range),
+            "e.g. --max-range 60");
+  CheckOutputPaths({{"--out", args.out}}, {{"--poses", args.poses}});
   const KittiSequence sequence = KittiSequence::Open(args.sequence);
   const Trajectory poses = ReadKittiTrajectory(args.poses);
+  CheckInput(poses.size() == sequence.size(), args.poses, 0,
+             fmt::format("{} poses for the {} frames of {}", poses.size(), sequence.size(),
+                         sequence.folder().string()),
+             "give --poses the pose file of this sequence (one world_from_cam per frame)");
   const PointCloud map = BuildMap(args.options, sequence, poses);
   WritePointCloud(args.out, map);
   spdlog::info("map build: wrote {} ({} points)", args.out, map.size());
@@ -50,6 +68,23 @@ int RunBuild(const BuildArgs& args) {
 }
 
 int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
+  if (sigma_given) {
+    CheckFlag(std::isfinite(args.sigma) && args.sigma > 0.0, "--sigma", args.sigma,
+              "the tensor-voting scale in metres, > 0 (LiDAR maps: 0.2 to 2)", "e.g. --sigma 0.5");
+  }
+  if (voxel_given) {
+    CheckFlag(AtLeast(args.voxel, 0.0) || args.voxel == -1.0, "--voxel", args.voxel,
+              "a voxel size in metres >= 0 (0 = off), or -1 (sigma / 5)", "e.g. --voxel 0.1");
+  }
+  if (!args.up.empty()) {
+    const bool finite = args.up.size() == 3 && std::isfinite(args.up[0]) &&
+                        std::isfinite(args.up[1]) && std::isfinite(args.up[2]);
+    CheckFlag(finite && std::abs(args.up[0]) + std::abs(args.up[1]) + std::abs(args.up[2]) > 0,
+              "--up", fmt::format("{}", fmt::join(args.up, " ")),
+              "three finite numbers, not all zero (a direction)", "e.g. --up 0 0 1");
+  }
+  CheckOutputPaths({{"--out", args.out}, {"--ply", args.ply}},
+                   {{"--map", args.map}, {"--gt", args.gt}, {"--options", args.options_yaml}});
   MapPlanesOptions options;
   // Without --up (or `up` in the options file) the up axis is detected from the map.
   options.plane_extraction.detect_up = true;

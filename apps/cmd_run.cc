@@ -1,4 +1,5 @@
 // `planeloc run`: stereo visual odometry over a KITTI sequence (see docs/tracking.md).
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -9,8 +10,10 @@
 #include <string>
 
 #include "command_registry.h"
+#include "flags.h"
 #include "planeloc/tracking/run_sequence.h"
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc::cli {
 namespace {
@@ -39,6 +42,18 @@ int Run(const RunArgs& args) {
                      "pass --planes planes.json (from `planeloc map planes`) or --no-planes "
                      "(visual odometry only)");
   }
+  CheckFlag(args.threads >= 0 && args.threads <= 1024, "--threads", args.threads,
+            "a thread count from 0 to 1024 (0 = the settings' default of 2)", "e.g. --threads 2");
+  CheckFlag(args.frames >= 0, "--frames", args.frames, "a frame count >= 0 (0 = all frames)",
+            "e.g. --frames 100");
+  // Before any work: a missing output folder or two outputs on one file fail now, not after the
+  // run (the settings echo is written first and used to take the blame).
+  CheckOutputPaths({{"--out", args.out},
+                    {"--stats", args.stats},
+                    {"the settings echo (--out + .config.yaml)", args.out + ".config.yaml"}},
+                   {{"--init-pose-from", args.init_pose_from},
+                    {"--planes", args.planes},
+                    {"--config", args.config}});
   RunOptions options;
   options.sequence = args.sequence;
   options.cameras = ParseCameraChoice(args.cameras);
@@ -112,6 +127,15 @@ int Run(const RunArgs& args) {
     }
   }
   spdlog::info("trajectory: {}", args.out);
+  // A few skipped frames are bridged by the motion model; a trajectory mostly extrapolated is not
+  // a result (e.g. a right camera that went black after frame 0).
+  CheckInput(2 * summary.skipped <= summary.frames, args.sequence, 0,
+             fmt::format("{} of {} frames were skipped (images missing, corrupt, blank or of "
+                         "another size; the warnings above name them): the trajectory in {} is "
+                         "mostly extrapolated",
+                         summary.skipped, summary.frames, args.out),
+             "repair or re-extract the images named above, or track a stretch without them "
+             "(--frames)");
   return 0;
 }
 
@@ -139,7 +163,9 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
                   "registers its stereo structure to the plane map and moves into the map frame "
                   "when it locks. \"0 0 0\": the initial pose is exact (no registration)");
   cmd->add_option("--out", args->out, "Output trajectory (one pose per frame)")->required();
-  cmd->add_option("--format", args->format, "kitti | tum")->capture_default_str();
+  cmd->add_option("--format", args->format, "kitti | tum")
+      ->check(CLI::IsMember({"kitti", "tum"}))
+      ->capture_default_str();
   cmd->add_option("--stats", args->stats, "Per-frame statistics, JSON lines");
   cmd->add_option(
       "--config", args->config,
@@ -148,11 +174,11 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
                 "Use the --config file's intrinsics and baseline instead of the sequence's "
                 "calibration");
   cmd->add_flag("--deterministic", args->deterministic, "Local BA in line: bit-identical runs");
-  cmd->add_option("--threads", args->threads, "Threads (0 = settings' default of 2)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--cameras", args->cameras, "auto | grey | color")->capture_default_str();
-  cmd->add_option("--frames", args->frames, "Track only the first N frames (0 = all)")
-      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", args->threads, "Threads (0 = settings' default of 2)");
+  cmd->add_option("--cameras", args->cameras, "auto | grey | color")
+      ->check(CLI::IsMember({"auto", "grey", "gray", "color", "colour"}))
+      ->capture_default_str();
+  cmd->add_option("--frames", args->frames, "Track only the first N frames (0 = all)");
   return [args] { return Run(*args); };
 });
 

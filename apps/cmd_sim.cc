@@ -8,6 +8,7 @@
 #include <string>
 
 #include "command_registry.h"
+#include "flags.h"
 #include "planeloc/sim/simulator.h"
 #include "planeloc/util/error.h"
 
@@ -26,6 +27,10 @@ struct SimArgs {
 };
 
 int Run(const SimArgs& args) {
+  if (args.frames) {
+    CheckFlag(*args.frames >= 1, "--frames", *args.frames, "a frame count >= 1",
+              "e.g. --frames 20, or leave it out for the preset's length");
+  }
   sim::SimOptions options;
   options.preset = args.preset;
   options.seed = args.seed;
@@ -53,7 +58,9 @@ const CommandRegistrar kRegistrar("sim", [](CLI::App& app) -> CommandRunner {
   cmd->add_option("--seed", args->seed, "Seed of the town, motion and noise")
       ->capture_default_str();
   cmd->add_option("--frames", args->frames, "Number of frames (default: the preset's)");
-  cmd->add_option("--lighting", args->lighting, "constant | changing")->capture_default_str();
+  cmd->add_option("--lighting", args->lighting, "constant | changing")
+      ->check(CLI::IsMember({"constant", "changing"}))
+      ->capture_default_str();
   cmd->add_option("--texture-dir", args->texture_dir, "Folder of facade images (png/jpg)");
   cmd->add_option("--trajectory", args->trajectory,
                   "KITTI pose file to drive along (e.g. poses/07.txt); --frames takes the first N");

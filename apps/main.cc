@@ -1,5 +1,6 @@
 // planeloc: stereo camera localization in a prior LiDAR plane map.
 // Owns the error boundary: the library throws, this file decides exit codes.
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -12,6 +13,9 @@
 #include "planeloc/util/error.h"
 
 int main(int argc, char** argv) {
+  // Logs and warnings go to stderr (spdlog's default logger writes to stdout): stdout carries only
+  // the machine-readable outputs documented as such (the `eval` table).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("planeloc"));
   CLI::App app{"planeloc: stereo camera localization in a prior LiDAR plane map"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "planeloc 0.1.0");
@@ -27,6 +31,16 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // A first word that is no subcommand: name it (CLI11 says only "A subcommand is required").
+    if (argc > 1 && argv[1][0] != '-' && runners.count(argv[1]) == 0) {
+      std::string names;
+      for (const auto& entry : registry) names += (names.empty() ? "" : ", ") + entry.name;
+      std::fprintf(
+          stderr,
+          "planeloc: error: unknown subcommand '%s' (fix: use one of %s; see planeloc --help)\n",
+          argv[1], names.c_str());
+      return 2;
+    }
     // CLI11 returns 0 for --help/--version; usage errors are the user's: exit 2.
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;

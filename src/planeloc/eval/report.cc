@@ -2,9 +2,10 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
+#include <sstream>
 
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc {
 namespace {
@@ -97,11 +98,7 @@ std::string FormatReportTable(const EvalInputs& inputs, const EvalOptions& optio
 
 void WritePlotCsv(const std::filesystem::path& path, const EvalInputs& inputs,
                   const EvalReport& report) {
-  std::ofstream stream(path);
-  if (!stream) {
-    throw InputError(path.string(), "cannot write the plot data file",
-                     "check the temporary folder's permissions and free space");
-  }
+  std::ostringstream stream;
   PoseMatrices estimate = inputs.estimate;
   if (!report.ape.estimate.empty()) ApplyAlignment(report.ape.alignment, &estimate);
   stream << (inputs.has_time ? "time" : "frame") << ",gt_x,gt_y,gt_z,est_x,est_y,est_z,ape\n";
@@ -111,7 +108,7 @@ void WritePlotCsv(const std::filesystem::path& path, const EvalInputs& inputs,
     stream << fmt::format("{},{},{},{},{},{},{},{}\n", inputs.times[i], g.x(), g.y(), g.z(), e.x(),
                           e.y(), e.z(), report.ape.errors[i]);
   }
-  if (!stream) throw InputError(path.string(), "write failed", "check free space");
+  WriteFileWhole(path, stream.str());
 }
 
 }  // namespace planeloc

@@ -15,6 +15,7 @@
 #include "planeloc/io/oxts.h"
 #include "planeloc/io/trajectory.h"
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc {
 namespace fs = std::filesystem;
@@ -77,6 +78,14 @@ cv::Mat LoadGreyImage(const fs::path& path) {
   cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
   CheckInput(!image.empty(), path.string(), 0, "image does not decode",
              "the file is corrupt or not an image; re-extract it from the KITTI archive");
+  // A blank image (lens covered, sensor blackout, a zero-filled file) has no feature: tracked as
+  // is it gives a pose from nothing (an all-black right camera gave identity poses).
+  double lowest = 0.0, highest = 0.0;
+  cv::minMaxLoc(image, &lowest, &highest);
+  CheckInput(lowest < highest, path.string(), 0,
+             fmt::format("the image is blank (every pixel is {})", lowest),
+             "the camera saw nothing (covered lens, blackout, zero-filled file); restore the image "
+             "or drop the frame");
   return image;
 }
 
@@ -119,6 +128,18 @@ bool ParseDateTimeNanoseconds(const std::string& text, std::int64_t* nanoseconds
   return true;
 }
 
+// Frame times must increase strictly: equal or decreasing times would end up in TUM output and
+// break the motion model's time steps.
+void CheckIncreasing(const std::vector<double>& seconds, double next, const fs::path& path,
+                     int line) {
+  if (seconds.empty() || next > seconds.back()) return;
+  throw InputError(
+      path.string(), line,
+      fmt::format("time {:.9g} s is not after the previous frame's {:.9g} s", next, seconds.back()),
+      "frame times must increase strictly (one line per frame, in order); restore "
+      "the file from the dataset");
+}
+
 const char* kCountFix =
     "the sequence must have one line per frame; re-extract it, or remove the extra images";
 
@@ -138,6 +159,7 @@ std::vector<double> ReadRawTimestamps(const fs::path& path, std::size_t expected
                fmt::format("'{}' is not a date-time like 2011-09-26 13:02:25.964389445", line),
                "restore the file from the KITTI raw drive");
     if (seconds.empty()) first = nanoseconds;
+    CheckIncreasing(seconds, static_cast<double>(nanoseconds - first) * 1e-9, path, line_number);
     seconds.push_back(static_cast<double>(nanoseconds - first) * 1e-9);
   }
   CheckInput(seconds.size() == expected, path.string(), 0,
@@ -166,6 +188,7 @@ std::vector<double> ReadOdometryTimes(const fs::path& path, std::size_t expected
                    line.find_first_not_of(" \t\r", used) == std::string::npos,
                path.string(), line_number, fmt::format("'{}' is not a time in seconds", line),
                "one number (seconds) per line");
+    CheckIncreasing(seconds, value, path, line_number);
     seconds.push_back(value);
   }
   CheckInput(seconds.size() == expected, path.string(), 0,
@@ -314,10 +337,13 @@ void KittiSequence::ListFrames(const fs::path& left_dir, const fs::path& right_d
                                                             : "left"));
     }
   }
-  CheckInput(IsFile(left_images_.front()), left_images_.front().string(), 0,
-             "the first frame's left image is missing",
-             "the first frame sets the image size and the initial pose; restore it or start the "
-             "sequence at the next frame");
+  for (const fs::path& first : {left_images_.front(), right_images_.front()}) {
+    CheckInput(IsFile(first), first.string(), 0,
+               fmt::format("the first frame's {} image is missing",
+                           first == left_images_.front() ? "left" : "right"),
+               "the first frame sets the image size, the initial pose and the scale; restore it "
+               "or start the sequence at the next frame");
+  }
   // Many missing images are not gaps but two cameras that do not belong together.
   CheckInput(2 * std::max(missing_left, missing_right) <= names.size(), right_dir.string(), 0,
              fmt::format("{} left images in {} and {} right images here for {} frames",
@@ -337,6 +363,12 @@ void KittiSequence::ListFrames(const fs::path& left_dir, const fs::path& right_d
 void KittiSequence::SetCameraFromCalib(const KittiCalibFile& calib, const std::string& left_key,
                                        const std::string& right_key) {
   const cv::Size size = ReadImageSize(left_images_.front());
+  const cv::Size right_size = ReadImageSize(right_images_.front());
+  CheckInput(right_size == size, right_images_.front().string(), 0,
+             fmt::format("the first frame's right image is {}x{} but its left image {} is {}x{}",
+                         right_size.width, right_size.height, left_images_.front().string(),
+                         size.width, size.height),
+             "both cameras of a rectified pair must have the same image size; re-extract them");
   camera_ = StereoCameraFromCalib(calib, left_key, right_key, size.width, size.height);
 }
 
@@ -492,12 +524,8 @@ void WriteVelodyneScan(const fs::path& path, const VelodyneScan& scan) {
     raw.insert(raw.end(), {point.x(), point.y(), point.z(),
                            scan.reflectance.empty() ? 0.0f : scan.reflectance[i]});
   }
-  std::ofstream stream(path, std::ios::binary);
-  CheckInput(stream.good(), path.string(), 0, "cannot open for writing",
-             "check that the folder exists and is writable");
-  stream.write(reinterpret_cast<const char*>(raw.data()),
-               static_cast<std::streamsize>(raw.size() * sizeof(float)));
-  CheckInput(stream.good(), path.string(), 0, "write failed", "check the free disk space");
+  WriteFileWhole(path, std::string_view(reinterpret_cast<const char*>(raw.data()),
+                                        raw.size() * sizeof(float)));
 }
 
 }  // namespace planeloc

@@ -37,8 +37,9 @@ struct StereoPair {
 
 class KittiSequence {
  public:
-  // Detects the layout from the folder's contents. Reads calibration, timestamps and the list of
-  // frames; decodes no image.
+  // Detects the layout from the folder's contents. Reads calibration, timestamps (strictly
+  // increasing) and the list of frames; decodes no image. Frame 0 must have both images, of the
+  // same size (read from the PNG headers).
   static KittiSequence Open(const std::filesystem::path& folder,
                             CameraChoice cameras = CameraChoice::kAuto);
 
@@ -52,8 +53,8 @@ class KittiSequence {
   const std::vector<double>& timestamps() const { return timestamps_; }
   std::filesystem::path left_image_path(std::size_t index) const;
   std::filesystem::path right_image_path(std::size_t index) const;
-  // Decodes frame `index`. Throws InputError if a file is missing or does not decode, or if left
-  // and right sizes differ from each other or from camera().
+  // Decodes frame `index`. Throws InputError if a file is missing, does not decode or is blank
+  // (one grey value), or if left and right sizes differ from each other or from camera().
   StereoPair LoadStereoPair(std::size_t index) const;
   // True when both image files of frame `index` exist (for skipping missing frames mid-sequence).
   bool HasFrame(std::size_t index) const;

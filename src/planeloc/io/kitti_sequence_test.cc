@@ -502,6 +502,42 @@ TEST(KittiSequenceBadInput, FirstLeftImageMissing) {
   ExpectInputError([&] { KittiSequence::Open(data.folder); }, "image_0/000000.png");
 }
 
+TEST(KittiSequenceBadInput, FirstFrameIncompleteOrOfAnotherSize) {
+  TempDir dir;
+  const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});
+  fs::remove(data.folder / "image_1" / "000000.png");
+  ExpectInputError([&] { KittiSequence::Open(data.folder); }, "image_1/000000.png");
+  WritePng(data.folder / "image_1" / "000000.png", Pattern(60, 48, 0));
+  ExpectInputError([&] { KittiSequence::Open(data.folder); }, "image_1/000000.png");
+}
+
+TEST(KittiSequenceBadInput, BlankImageIsAnError) {
+  TempDir dir;
+  const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});
+  WritePng(data.folder / "image_1" / "000001.png", cv::Mat(48, 64, CV_8UC1, cv::Scalar(0)));
+  const KittiSequence sequence = KittiSequence::Open(data.folder);
+  EXPECT_NO_THROW(sequence.LoadStereoPair(0));
+  ExpectInputError([&] { sequence.LoadStereoPair(1); }, "image_1/000001.png");
+}
+
+TEST(KittiSequenceBadInput, TimesNotIncreasing) {
+  TempDir dir;
+  const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});
+  WriteText(data.folder / "times.txt", "0.0\n0.1\n0.1\n");
+  ExpectInputError([&] { KittiSequence::Open(data.folder); }, "times.txt", 3);
+  WriteText(data.folder / "times.txt", "0\n0\n0\n");  // all zero
+  ExpectInputError([&] { KittiSequence::Open(data.folder); }, "times.txt", 2);
+  TempDir raw_dir;
+  const fs::path raw = WriteSyntheticRaw(raw_dir.path(), /*calib_in_parent=*/false);
+  std::ifstream in(raw / "image_00" / "timestamps.txt");
+  std::string first, second;
+  std::getline(in, first);
+  std::getline(in, second);
+  in.close();
+  WriteText(raw / "image_00" / "timestamps.txt", second + "\n" + first + "\n");
+  ExpectInputError([&] { KittiSequence::Open(raw); }, "image_00/timestamps.txt", 2);
+}
+
 TEST(KittiSequenceBadInput, TimesCountMismatch) {
   TempDir dir;
   const SyntheticOdometry data = WriteSyntheticOdometry(dir.path(), {});

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc {
 namespace {
@@ -207,12 +208,8 @@ void WritePlaneMap(const std::filesystem::path& path, const PlaneMap& map) {
                          {"up", VectorJson(map.frame.up)},
                          {"up_source", map.frame.up_source}};
   }
-  std::ofstream stream(path);
-  CheckInput(stream.good(), path.string(), 0, "cannot open for writing",
-             "check that the folder exists and is writable");
   // nlohmann writes doubles with max_digits10, so a read-back is bit-exact.
-  stream << document.dump(2) << '\n';
-  CheckInput(stream.good(), path.string(), 0, "write failed", "check the free disk space");
+  WriteFileWhole(path, document.dump(2) + '\n');
 }
 
 }  // namespace planeloc

@@ -1,9 +1,12 @@
 #include "planeloc/io/point_cloud.h"
 
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/io/PointCloudIO.h>
+#include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
 #include <new>
 #include <string>
 
@@ -11,6 +14,10 @@
 #include "planeloc/io/ply_reader.h"
 #include "planeloc/io/voxel_filter.h"
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
+
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
+              "the binary .pcd/.ply writers copy host floats: little-endian hosts only");
 
 namespace planeloc {
 namespace {
@@ -28,23 +35,59 @@ void CheckExtension(const std::filesystem::path& path) {
              "unsupported point-cloud extension '" + ext + "'", "use a .pcd, .ply or .xyz file");
 }
 
-// Open3D reads .xyz correctly; its .pcd reader misreads double coordinates (SIZE 8 -> bad_alloc)
-// and accepts a POINTS larger than the data, hence our own .pcd and .ply parsers.
+// .xyz: "x y z" a line (more columns allowed, e.g. intensity, but the same number on every line).
+// Our own parser: Open3D's skips lines it cannot read, so a short or garbled line lost a point
+// without a word. Blank lines and '#' comments are skipped.
 void ReadXyz(const std::filesystem::path& path, VoxelAccumulator& sink) {
-  open3d::geometry::PointCloud o3d_cloud;
-  open3d::io::ReadPointCloudOption option;
-  option.remove_nan_points = false;  // we reject non-finite points with a message instead
-  option.remove_infinite_points = false;
-  const bool ok = open3d::io::ReadPointCloud(path.string(), o3d_cloud, option);
-  CheckInput(ok, path.string(), 0, "Open3D could not read the point cloud",
-             "check the file is a valid .xyz point cloud (x y z per line)");
-  sink.Reserve(o3d_cloud.points_.size());
-  for (std::size_t i = 0; i < o3d_cloud.points_.size(); ++i) {
-    CheckInput(o3d_cloud.points_[i].allFinite(), path.string(), 0,
-               "point " + std::to_string(i) + " has a NaN or infinite coordinate",
+  std::ifstream stream(path);
+  CheckInput(stream.good(), path.string(), 0, "cannot open the point cloud",
+             "check that the file is readable");
+  std::string line;
+  int number = 0;
+  std::size_t columns = 0;
+  long long points = 0;
+  std::vector<double> values;
+  while (std::getline(stream, line)) {
+    ++number;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    values.clear();
+    const char* cursor = line.c_str();
+    while (true) {
+      while (*cursor == ' ' || *cursor == '\t' || *cursor == ',' || *cursor == '\r') ++cursor;
+      if (*cursor == '\0') break;
+      char* end = nullptr;
+      const double value = std::strtod(cursor, &end);
+      const char* token_end = cursor;
+      while (*token_end != '\0' && *token_end != ' ' && *token_end != '\t' && *token_end != ',' &&
+             *token_end != '\r') {
+        ++token_end;
+      }
+      CheckInput(end == token_end, path.string(), number,
+                 fmt::format("'{}' is not a number", std::string(cursor, token_end)),
+                 "an .xyz file holds numbers only: x y z a line");
+      values.push_back(value);
+      cursor = token_end;
+    }
+    if (columns == 0) {
+      CheckInput(values.size() >= 3, path.string(), number,
+                 fmt::format("{} values on the line, expected x y z", values.size()),
+                 "an .xyz file holds x y z a line (extra columns allowed)");
+      columns = values.size();
+    }
+    CheckInput(values.size() == columns, path.string(), number,
+               fmt::format("{} values on the line but the first point's line has {}", values.size(),
+                           columns),
+               "every line of an .xyz file needs the same columns; the file is truncated or "
+               "garbled: re-export it");
+    const Eigen::Vector3d point(values[0], values[1], values[2]);
+    CheckInput(point.allFinite(), path.string(), number,
+               fmt::format("point {} has a NaN or infinite coordinate", points),
                "remove invalid points from the map before processing it");
-    sink.Add(o3d_cloud.points_[i], nullptr);
+    sink.Add(point, nullptr);
+    ++points;
   }
+  CheckInput(!stream.bad(), path.string(), 0, "read error", "check the file and the disk");
 }
 
 }  // namespace
@@ -81,16 +124,64 @@ PointCloud ReadPointCloud(const std::filesystem::path& path, const PointCloudRea
 
 void WritePointCloud(const std::filesystem::path& path, const PointCloud& cloud) {
   CheckExtension(path);
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-  open3d::geometry::PointCloud o3d_cloud;
-  o3d_cloud.points_ = cloud.points;
-  if (cloud.has_colors()) o3d_cloud.colors_ = cloud.colors;
-  open3d::io::WritePointCloudOption option;
-  option.write_ascii = open3d::io::WritePointCloudOption::IsAscii::Binary;
-  option.compressed = open3d::io::WritePointCloudOption::Compressed::Uncompressed;
-  const bool ok = open3d::io::WritePointCloud(path.string(), o3d_cloud, option);
-  CheckInput(ok, path.string(), 0, "could not write the point cloud",
-             "check the folder exists and is writable");
+  if (path.has_parent_path()) {
+    std::error_code ignored;
+    std::filesystem::create_directories(path.parent_path(), ignored);  // OutputFile names it
+  }
+  // Our own writers (Open3D's ignore failed writes: a full disk gave a 0-byte map and success),
+  // through OutputFile: every write checked, the file renamed into place when complete.
+  OutputFile file(path, OutputFile::Mode::kWhole);
+  const std::string ext = LowerExtension(path);
+  const std::size_t n = cloud.size();
+  const bool colors = cloud.has_colors();
+  const auto rgb = [&](std::size_t i, int channel) {
+    return static_cast<std::uint8_t>(
+        std::lround(std::clamp(cloud.colors[i][channel], 0.0, 1.0) * 255.0));
+  };
+  std::string buffer;
+  const auto flush_if_full = [&](bool last) {
+    if (buffer.size() >= (1u << 20) || (last && !buffer.empty())) {
+      file.Write(buffer);
+      buffer.clear();
+    }
+  };
+  const auto append = [&buffer](const auto& value) {
+    buffer.append(reinterpret_cast<const char*>(&value), sizeof(value));  // host = little endian
+  };
+  if (ext == ".xyz") {
+    for (const Eigen::Vector3d& p : cloud.points) {
+      buffer += fmt::format("{} {} {}\n", p.x(), p.y(), p.z());
+      flush_if_full(false);
+    }
+  } else if (ext == ".pcd") {
+    // PCL's layout: float x y z, colour packed in the bits of a float "rgb" field.
+    buffer = fmt::format(
+        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z{}\nSIZE 4 4 4{}\n"
+        "TYPE F F F{}\nCOUNT 1 1 1{}\nWIDTH {}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {}\n"
+        "DATA binary\n",
+        colors ? " rgb" : "", colors ? " 4" : "", colors ? " F" : "", colors ? " 1" : "", n, n);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int k = 0; k < 3; ++k) append(static_cast<float>(cloud.points[i][k]));
+      if (colors) {
+        append(static_cast<std::uint32_t>((rgb(i, 0) << 16) | (rgb(i, 1) << 8) | rgb(i, 2)));
+      }
+      flush_if_full(false);
+    }
+  } else {  // .ply: double coordinates, uchar colours
+    buffer = fmt::format(
+        "ply\nformat binary_little_endian 1.0\ncomment planeloc\nelement vertex {}\n"
+        "property double x\nproperty double y\nproperty double z\n{}end_header\n",
+        n, colors ? "property uchar red\nproperty uchar green\nproperty uchar blue\n" : "");
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int k = 0; k < 3; ++k) append(cloud.points[i][k]);
+      if (colors) {
+        for (int k = 0; k < 3; ++k) append(rgb(i, k));
+      }
+      flush_if_full(false);
+    }
+  }
+  flush_if_full(true);
+  file.Commit();
 }
 
 }  // namespace planeloc

@@ -1,10 +1,10 @@
 // Point-cloud files (.pcd, .ply, .xyz) as LiDAR mapping tools write them. .pcd and .ply are read
 // by our own parsers (pcd_reader.h, ply_reader.h: every variant, float or double coordinates,
-// extra fields skipped, header checked against the data), .xyz through Open3D; everything is
-// written through Open3D. An empty cloud, NaN/Inf coordinates (except the NaN "no return" points
-// of an organized .pcd, which are dropped and counted) and a header that disagrees with the data
-// are planeloc::InputError naming the file: a map that silently lost points or misread a field
-// yields a wrong plane map much later.
+// extra fields skipped, header checked against the data), .xyz by ours too (same columns on
+// every line, line numbers in errors); everything is written by our own writers. An empty cloud,
+// NaN/Inf coordinates (except the NaN "no return" points of an organized .pcd, which are dropped
+// and counted) and a header that disagrees with the data are planeloc::InputError naming the file:
+// a map that silently lost points or misread a field yields a wrong plane map much later.
 #pragma once
 
 #include <Eigen/Core>
@@ -40,8 +40,9 @@ struct PointCloudReadOptions {
 PointCloud ReadPointCloud(const std::filesystem::path& path,
                           const PointCloudReadOptions& options = {});
 
-// Writes by extension (.pcd binary, .ply binary, .xyz ascii). Throws InputError if the extension is
-// unknown or the file cannot be written.
+// Writes by extension (.pcd binary float x y z [+ rgb], .ply binary little-endian double x y z
+// [+ uchar red green blue], .xyz ascii) as a whole file (util/safe_file.h): complete or absent.
+// Throws InputError if the extension is unknown or a write fails (the path and strerror).
 void WritePointCloud(const std::filesystem::path& path, const PointCloud& cloud);
 
 }  // namespace planeloc

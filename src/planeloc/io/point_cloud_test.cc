@@ -134,5 +134,43 @@ TEST(PointCloudTest, RejectsEmptyMissingAndUnknownExtension) {
   EXPECT_THROW(WritePointCloud(dir.path() / "cloud.las", ThreePoints()), InputError);
 }
 
+TEST(PointCloudTest, XyzLinesNeedTheSameColumnsAndNumbers) {
+  TempDir dir;
+  const auto path = dir.path() / "c.xyz";
+  // (text, line of the defect)
+  for (const auto& [text, line] : std::vector<std::pair<std::string, int>>{
+           {"1 2 3\n4 5\n", 2},         // short line (Open3D dropped it silently)
+           {"1 2 3 9\n4 5 6\n", 2},     // columns change
+           {"# c\n1 2 3\n4 x 6\n", 3},  // not a number
+           {"1 2\n", 1}}) {             // no z
+    WriteText(path, text);
+    try {
+      ReadPointCloud(path);
+      ADD_FAILURE() << "expected InputError for " << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.path(), path.string());
+      EXPECT_EQ(e.line(), line) << text;
+    }
+  }
+  WriteText(path, "# x y z intensity\n1 2 3 0.5\n\n4 5 6 0.7\n");
+  EXPECT_EQ(ReadPointCloud(path).size(), 2u);
+}
+
+TEST(PointCloudTest, WriteToAFullDiskIsAnError) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  TempDir dir;
+  for (const char* name : {"full.pcd", "full.ply", "full.xyz"}) {
+    // A symlink keeps the extension that chooses the format; the device is written in place.
+    std::filesystem::create_symlink("/dev/full", dir.path() / name);
+    try {
+      WritePointCloud(dir.path() / name, ThreePoints());
+      ADD_FAILURE() << "no error writing " << name;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace planeloc

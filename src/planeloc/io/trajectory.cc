@@ -6,10 +6,12 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <limits>
 
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc {
 namespace {
@@ -110,20 +112,23 @@ std::string TumLine(double timestamp, const Rigid3d& world_from_cam) {
                      FormatNumber(q.y()), FormatNumber(q.z()), FormatNumber(q.w()));
 }
 
-std::ofstream OpenForWriting(const std::filesystem::path& path) {
-  if (path.has_parent_path() && !std::filesystem::exists(path.parent_path())) {
-    throw InputError(path.string(), "the output folder does not exist",
-                     "create the folder first or choose another output path");
-  }
-  std::ofstream stream(path);
-  if (!stream) {
-    throw InputError(path.string(), "cannot open the file for writing",
-                     "check the folder's permissions and free space");
-  }
-  return stream;
-}
-
 }  // namespace
+
+void CheckRotation(const Eigen::Matrix3d& rotation, const std::string& source, int line) {
+  const double orthonormality =
+      (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).norm();
+  const double determinant = rotation.determinant();
+  if (!(orthonormality <= kRotationTolerance) || !(determinant > 0.0)) {
+    throw InputError(
+        source, line,
+        fmt::format("the rotation is not a rotation: |R^T R - I| = {:.3g} (at most {} allowed), "
+                    "det R = {:.4f} (must be +1){}",
+                    orthonormality, kRotationTolerance, determinant,
+                    determinant < 0.0 ? ": a mirrored (left-handed) pose" : ""),
+        "write orthonormal rotations with determinant +1 (row-major 3x4 world_from_cam); a "
+        "scaled or mirrored pose is not a camera pose");
+  }
+}
 
 TrajectoryFormat ParseTrajectoryFormat(const std::string& name) {
   if (name == "kitti") return TrajectoryFormat::kKitti;
@@ -152,6 +157,7 @@ std::vector<Eigen::Matrix<double, 3, 4>> ReadKittiPoseMatrices(const std::filesy
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 4; ++c) m(r, c) = line.values[4 * r + c];
     }
+    CheckRotation(m.leftCols<3>(), path.string(), line.line);
     poses.push_back(m);
   }
   if (poses.empty()) {
@@ -168,6 +174,13 @@ std::vector<double> ReadTimestamps(const std::filesystem::path& path) {
       throw InputError(path.string(), line.line,
                        fmt::format("a times.txt line needs 1 number, found {}", line.values.size()),
                        "write one timestamp in seconds a line");
+    }
+    if (!stamps.empty() && line.values[0] <= stamps.back()) {
+      throw InputError(path.string(), line.line,
+                       fmt::format("timestamp {} is not after the previous one {}", line.values[0],
+                                   stamps.back()),
+                       "timestamps must increase strictly, one per pose; pass the times.txt of "
+                       "this trajectory");
     }
     stamps.push_back(line.values[0]);
   }
@@ -203,9 +216,12 @@ Trajectory ReadTumTrajectory(const std::filesystem::path& path) {
                        "write 't tx ty tz qx qy qz qw' a line");
     }
     const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    if (q.norm() < 1e-9) {
-      throw InputError(path.string(), line.line, "the quaternion is zero",
-                       "write a unit quaternion qx qy qz qw");
+    if (std::abs(q.norm() - 1.0) > kQuaternionNormTolerance) {
+      throw InputError(path.string(), line.line,
+                       fmt::format("|q| = {:.6g}: the quaternion is not a unit quaternion "
+                                   "(tolerance {})",
+                                   q.norm(), kQuaternionNormTolerance),
+                       "write a unit quaternion qx qy qz qw (TUM order: t tx ty tz qx qy qz qw)");
     }
     if (!trajectory.timestamps.empty() && v[0] <= trajectory.timestamps.back()) {
       throw InputError(path.string(), line.line,
@@ -228,9 +244,9 @@ Trajectory ReadTrajectory(const std::filesystem::path& path, TrajectoryFormat fo
 }
 
 void WriteKittiTrajectory(const std::filesystem::path& path, const Trajectory& trajectory) {
-  std::ofstream stream = OpenForWriting(path);
-  for (const Rigid3d& pose : trajectory.world_from_cam) stream << KittiLine(pose) << '\n';
-  if (!stream) throw InputError(path.string(), "write failed", "check free space");
+  std::string text;
+  for (const Rigid3d& pose : trajectory.world_from_cam) text += KittiLine(pose) + '\n';
+  WriteFileWhole(path, text);
 }
 
 void WriteTumTrajectory(const std::filesystem::path& path, const Trajectory& trajectory) {
@@ -238,23 +254,25 @@ void WriteTumTrajectory(const std::filesystem::path& path, const Trajectory& tra
     throw InputError(path.string(), "a TUM file needs one timestamp per pose",
                      "fill Trajectory::timestamps or write KITTI format");
   }
-  std::ofstream stream = OpenForWriting(path);
+  std::string text;
   for (std::size_t i = 0; i < trajectory.size(); ++i) {
-    stream << TumLine(trajectory.timestamps[i], trajectory.world_from_cam[i]) << '\n';
+    text += TumLine(trajectory.timestamps[i], trajectory.world_from_cam[i]) + '\n';
   }
-  if (!stream) throw InputError(path.string(), "write failed", "check free space");
+  WriteFileWhole(path, text);
 }
 
 TrajectoryWriter::TrajectoryWriter(const std::filesystem::path& path, TrajectoryFormat format)
-    : path_(path), format_(format), stream_(OpenForWriting(path)) {}
+    : format_(format), file_(std::make_unique<OutputFile>(path, OutputFile::Mode::kIncremental)) {}
+
+TrajectoryWriter::~TrajectoryWriter() = default;
 
 void TrajectoryWriter::Write(double timestamp, const Rigid3d& world_from_cam) {
-  stream_ << (format_ == TrajectoryFormat::kKitti ? KittiLine(world_from_cam)
-                                                  : TumLine(timestamp, world_from_cam))
-          << '\n';
-  stream_.flush();
-  if (!stream_) throw InputError(path_.string(), "write failed", "check free space");
+  file_->Write((format_ == TrajectoryFormat::kKitti ? KittiLine(world_from_cam)
+                                                    : TumLine(timestamp, world_from_cam)) +
+               '\n');
 }
+
+void TrajectoryWriter::Close() { file_->Commit(); }
 
 std::vector<std::pair<std::size_t, std::size_t>> AssociateByTimestamp(
     const std::vector<double>& reference, const std::vector<double>& estimate,

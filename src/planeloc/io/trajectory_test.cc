@@ -2,6 +2,7 @@
 // association and the bad-input errors (file, line and fix in the message).
 #include "planeloc/io/trajectory.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -10,6 +11,7 @@
 
 #include "planeloc/util/error.h"
 #include "planeloc/util/temp_dir.h"
+#include "planeloc/util/test_data.h"
 
 namespace planeloc {
 namespace {
@@ -142,6 +144,52 @@ TEST(TrajectoryTest, BadLinesNameFileAndLine) {
   e = CatchInputError([&] { ReadKittiTrajectory(dir.path() / "missing.txt"); });
   EXPECT_NE(std::string(e.what()).find("missing.txt"), std::string::npos);
   EXPECT_THROW(ReadKittiTrajectory(dir.path()), InputError);  // a directory
+}
+
+TEST(TrajectoryTest, RotationsThatAreNotRotationsNameFileAndLine) {
+  TempDir dir;
+  const auto path = dir.path() / "bad.txt";
+  const std::string identity = "1 0 0 0 0 1 0 0 0 0 1 0\n";
+  for (const char* line : {"2 0 0 1 0 2 0 0 0 0 2 0",           // scaled
+                           "-1 0 0 1 0 1 0 0 0 0 1 0",          // mirrored
+                           "1 0.1 0 1 0 1 0 0 0 0 1 0",         // sheared
+                           "1.01 0 0 1 0 1.01 0 0 0 0 1.01 0",  // 1 % scale
+                           "0 0 0 1 0 0 0 0 0 0 0 0"}) {
+    WriteText(path, identity + std::string(line) + "\n");
+    const InputError e = CatchInputError([&] { ReadKittiTrajectory(path); });
+    EXPECT_EQ(e.path(), path.string()) << line;
+    EXPECT_EQ(e.line(), 2) << line;
+  }
+  // TUM: a non-unit quaternion.
+  WriteText(path, "0 0 0 0 0 0 0 1\n0.1 0 0 0 0 0 0 2\n");
+  EXPECT_EQ(CatchInputError([&] { ReadTumTrajectory(path); }).line(), 2);
+}
+
+TEST(TrajectoryTest, RealKittiGroundTruthPassesTheRotationCheck) {
+  PLANELOC_SHARED_DATA_OR_SKIP(poses, "kitti-odometry-gt/poses");
+  // Measured: |R^T R - I| at most 4.0e-7 over 00..10 (numpy), 2500x below kRotationTolerance.
+  for (int sequence = 0; sequence <= 10; ++sequence) {
+    const auto path = poses / fmt::format("{:02d}.txt", sequence);
+    EXPECT_NO_THROW(EXPECT_GT(ReadKittiPoseMatrices(path).size(), 0u)) << path;
+  }
+}
+
+TEST(TrajectoryTest, TimesMustIncrease) {
+  TempDir dir;
+  const auto times = dir.path() / "times.txt";
+  WriteText(times, "0.0\n0.2\n0.1\n");
+  const InputError e = CatchInputError([&] { ReadTimestamps(times); });
+  EXPECT_EQ(e.line(), 3);
+  WriteText(times, "0\n0\n");
+  EXPECT_EQ(CatchInputError([&] { ReadTimestamps(times); }).line(), 2);
+}
+
+TEST(TrajectoryTest, WriterReportsAFullDisk) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  TrajectoryWriter writer("/dev/full", TrajectoryFormat::kKitti);
+  const InputError e = CatchInputError([&] { writer.Write(0.0, Rigid3d::Identity()); });
+  EXPECT_EQ(e.path(), "/dev/full");
+  EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
 }
 
 TEST(TrajectoryTest, AssociationMatchesEvo) {

@@ -1,11 +1,13 @@
 #include "planeloc/map/map_options.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <functional>
 #include <map>
+#include <regex>
 
 #include "planeloc/util/error.h"
 
@@ -85,21 +87,29 @@ FieldTable Fields(MapPlanesOptions& o) {
   };
 }
 
+// A key read from the options file, with its value node (for its line).
+struct ReadKey {
+  std::string key;
+  YAML::Node value;
+};
+
 void Visit(const YAML::Node& node, const std::string& prefix, const FieldTable& fields,
-           const std::filesystem::path& path, std::vector<std::string>& unknown) {
+           const std::filesystem::path& path, std::vector<std::string>& unknown,
+           std::vector<ReadKey>& read) {
   for (const auto& entry : node) {
     const std::string key = prefix + entry.first.as<std::string>();
     const auto it = fields.find(key);
     if (it != fields.end()) {
       try {
         it->second.read(entry.second);
+        read.push_back({key, entry.second});
       } catch (const YAML::Exception&) {
         throw InputError(path.string(), entry.second.Mark().line + 1,
                          "option '" + key + "' has a value of the wrong type",
                          "give a number (or [x, y, z] for 'up')");
       }
     } else if (entry.second.IsMap()) {
-      Visit(entry.second, key + ".", fields, path, unknown);
+      Visit(entry.second, key + ".", fields, path, unknown, read);
     } else {
       unknown.push_back(key);
     }
@@ -129,7 +139,31 @@ std::vector<std::string> LoadMapPlanesOptions(const std::filesystem::path& path,
   if (root.IsNull()) return unknown;  // an empty file: all defaults
   CheckInput(root.IsMap(), path.string(), 1, "the options file is not a YAML mapping",
              "write `tensor_voting:` and `plane_extraction:` sections");
-  Visit(root, "", Fields(options), path, unknown);
+  const MapPlanesOptions before = options;
+  std::vector<ReadKey> read;
+  Visit(root, "", Fields(options), path, unknown, read);
+  try {
+    options.Check();
+  } catch (const OptionsError& error) {
+    // Name the key and its line: the first key that alone, on the options given before the file,
+    // makes them invalid (several keys together: the message names the field).
+    for (const ReadKey& entry : read) {
+      MapPlanesOptions alone = before;
+      Fields(alone).at(entry.key).read(entry.value);
+      try {
+        alone.Check();
+      } catch (const OptionsError& single) {
+        throw InputError(
+            path.string(), entry.value.Mark().line + 1,
+            // "TensorVotingOptions.sigma must be > 0": the key is named, drop the struct's name.
+            fmt::format("option '{}' = {}: {}", entry.key, YAML::Dump(entry.value),
+                        std::regex_replace(single.what(), std::regex("[A-Za-z]+Options\\."), "")),
+            "give the option a value in its range (docs/map.md), or remove it");
+      }
+    }
+    throw InputError(path.string(), 0, fmt::format("invalid options: {}", error.what()),
+                     "give the options values in their ranges (docs/map.md)");
+  }
   for (const auto& key : unknown) {
     spdlog::warn("{}: unknown option '{}' ignored", path.string(), key);
   }

@@ -45,5 +45,21 @@ TEST(MapOptionsTest, WrongTypeNamesFileAndLine) {
   EXPECT_THROW(LoadMapPlanesOptions(dir.path() / "missing.yaml", options), InputError);
 }
 
+TEST(MapOptionsTest, ValueOutOfRangeNamesKeyAndLineNotTheStruct) {
+  TempDir dir;
+  const auto path = dir.path() / "range.yaml";
+  std::ofstream(path) << "voxel_size: 0.1\ntensor_voting:\n  sigma: -1\n";
+  MapPlanesOptions options;
+  try {
+    LoadMapPlanesOptions(path, options);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.path(), path.string());
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(e.problem().find("tensor_voting.sigma"), std::string::npos) << e.problem();
+    EXPECT_EQ(e.problem().find("Options."), std::string::npos) << e.problem();
+  }
+}
+
 }  // namespace
 }  // namespace planeloc

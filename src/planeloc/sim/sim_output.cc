@@ -1,61 +1,52 @@
 #include "planeloc/sim/sim_output.h"
 
-#include <cstdio>
-#include <fstream>
-#include <memory>
+#include <fmt/format.h>
+
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc::sim {
 namespace {
 
-using FilePtr = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
-
-FilePtr OpenForWriting(const std::filesystem::path& path, const char* mode) {
-  FilePtr file(std::fopen(path.c_str(), mode), &std::fclose);
-  CheckInput(file != nullptr, path.string(), 0, "cannot open the file for writing",
-             "check that the output folder is writable and the disk is not full");
-  return file;
-}
-
-void WriteRow3x4(std::FILE* file, const Eigen::Matrix<double, 3, 4>& m) {
+std::string Row3x4(const Eigen::Matrix<double, 3, 4>& m) {
+  std::string row;
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 4; ++c)
-      std::fprintf(file, (r == 0 && c == 0) ? "%.12e" : " %.12e", m(r, c));
+    for (int c = 0; c < 4; ++c) {
+      if (r != 0 || c != 0) row += ' ';
+      row += fmt::format("{:.12e}", m(r, c));
+    }
   }
+  return row;
 }
 
 }  // namespace
 
 void WriteCalib(const std::filesystem::path& path, const StereoCamera& camera,
                 const Eigen::Matrix<double, 3, 4>& cam_from_velo_3x4) {
-  const auto file = OpenForWriting(path, "w");
+  std::string text;
   Eigen::Matrix<double, 3, 4> p0 = Eigen::Matrix<double, 3, 4>::Zero();
   p0.leftCols<3>() = camera.K();
   Eigen::Matrix<double, 3, 4> p1 = p0;
   p1(0, 3) = -camera.fx * camera.baseline;
   const std::pair<const char*, const Eigen::Matrix<double, 3, 4>*> rows[] = {
       {"P0", &p0}, {"P1", &p1}, {"P2", &p0}, {"P3", &p1}, {"Tr", &cam_from_velo_3x4}};
-  for (const auto& [name, m] : rows) {
-    std::fprintf(file.get(), "%s: ", name);
-    WriteRow3x4(file.get(), *m);
-    std::fprintf(file.get(), "\n");
-  }
+  for (const auto& [name, m] : rows) text += fmt::format("{}: {}\n", name, Row3x4(*m));
+  WriteFileWhole(path, text);
 }
 
 void WriteTimes(const std::filesystem::path& path, int frames, double rate_hz) {
-  const auto file = OpenForWriting(path, "w");
-  for (int i = 0; i < frames; ++i) std::fprintf(file.get(), "%.6e\n", i / rate_hz);
+  std::string text;
+  for (int i = 0; i < frames; ++i) text += fmt::format("{:.6e}\n", i / rate_hz);
+  WriteFileWhole(path, text);
 }
 
 void WritePoses(const std::filesystem::path& path, const std::vector<Rigid3d>& world_from_cam) {
-  const auto file = OpenForWriting(path, "w");
-  for (const auto& pose : world_from_cam) {
-    WriteRow3x4(file.get(), pose.Matrix3x4());
-    std::fprintf(file.get(), "\n");
-  }
+  std::string text;
+  for (const auto& pose : world_from_cam) text += Row3x4(pose.Matrix3x4()) + '\n';
+  WriteFileWhole(path, text);
 }
 
 void WriteScan(const std::filesystem::path& path, const VelodyneScan& scan) {
@@ -67,9 +58,8 @@ void WriteScan(const std::filesystem::path& path, const VelodyneScan& scan) {
     data.push_back(static_cast<float>(scan.points[i].z()));
     data.push_back(i < scan.reflectance.size() ? scan.reflectance[i] : 0.0f);
   }
-  const auto file = OpenForWriting(path, "wb");
-  const std::size_t written = std::fwrite(data.data(), sizeof(float), data.size(), file.get());
-  CheckInput(written == data.size(), path.string(), 0, "short write", "check free disk space");
+  WriteFileWhole(path, std::string_view(reinterpret_cast<const char*>(data.data()),
+                                        data.size() * sizeof(float)));
 }
 
 void WritePlanesGt(const std::filesystem::path& path, const World& world,
@@ -106,10 +96,7 @@ void WritePlanesGt(const std::filesystem::path& path, const World& world,
         {"ground", counts[0]},
         {"facade", counts[1]},
         {"other", counts[2]}}}};
-  std::ofstream out(path);
-  CheckInput(static_cast<bool>(out), path.string(), 0, "cannot open the file for writing",
-             "check that the output folder is writable");
-  out << doc.dump(1) << "\n";
+  WriteFileWhole(path, doc.dump(1) + "\n");
 }
 
 }  // namespace planeloc::sim

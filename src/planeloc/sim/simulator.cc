@@ -19,6 +19,7 @@
 #include "planeloc/sim/town.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/progress.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc::sim {
 namespace {
@@ -181,8 +182,7 @@ std::string FrameName(int frame, const char* ext) {
 }
 
 void WriteReadme(const fs::path& path, const SimOptions& o, const Scenario& s) {
-  std::ofstream out(path);
-  CheckInput(static_cast<bool>(out), path.string(), 0, "cannot write", "check the output folder");
+  std::ostringstream out;
   out << "planeloc sim: synthetic urban sequence (see docs/sim.md)\n"
       << "preset: " << o.preset << "\nseed: " << o.seed << "\nframes: " << s.world_from_cam.size()
       << "\nlighting: " << LightingName(o.lighting) << "\ntrajectory: "
@@ -193,6 +193,15 @@ void WriteReadme(const fs::path& path, const SimOptions& o, const Scenario& s) {
       << " spheres, " << s.world.cylinders.size() << " cylinders\n"
       << "poses/00.txt and world/planes_gt.json share one frame: camera 0 at frame 0 "
          "(x right, y down, z forward).\n";
+  WriteFileWhole(path, out.str());
+}
+
+// PNG-encoded in memory and written whole (util/safe_file.h): a full disk is an error.
+void WritePng(const fs::path& path, const cv::Mat& image) {
+  std::vector<unsigned char> png;
+  CheckInput(cv::imencode(".png", image, png), path.string(), 0, "cannot encode the image",
+             "report this as a bug");
+  WriteFileWhole(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 }  // namespace
@@ -315,12 +324,8 @@ SimResult GenerateSequence(const SimOptions& options, const fs::path& out_dir, b
       const VelodyneScan scan =
           ScanLidar(scene, shader, world_from_cam * result.cam_from_velo, seed(2));
       const std::string png = FrameName(f, "png");
-      CheckInput(cv::imwrite((result.sequence_dir / "image_0" / png).string(), left),
-                 (result.sequence_dir / "image_0" / png).string(), 0, "cannot write the image",
-                 "check free disk space and permissions");
-      CheckInput(cv::imwrite((result.sequence_dir / "image_1" / png).string(), right),
-                 (result.sequence_dir / "image_1" / png).string(), 0, "cannot write the image",
-                 "check free disk space and permissions");
+      WritePng(result.sequence_dir / "image_0" / png, left);
+      WritePng(result.sequence_dir / "image_1" / png, right);
       WriteScan(result.sequence_dir / "velodyne" / FrameName(f, "bin"), scan);
     });
     if (progress) progress->Update(static_cast<std::size_t>(last));

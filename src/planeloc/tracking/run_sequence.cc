@@ -15,6 +15,7 @@
 #include "planeloc/io/plane_map.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/progress.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc {
 namespace {
@@ -43,14 +44,7 @@ Rigid3d FromTwelve(const std::vector<double>& v, const std::string& source, int 
   }
   CheckInput(m.allFinite(), source, line, "the initial pose holds a NaN or infinite value",
              "give a finite row-major 3x4 world_from_cam");
-  const Eigen::Matrix3d r = m.leftCols<3>();
-  // Real KITTI pose files are orthonormal to about 1e-6; 1e-3 rejects scaled or sheared ones.
-  const double orthonormality = (r.transpose() * r - Eigen::Matrix3d::Identity()).norm();
-  CheckInput(orthonormality < 1e-3 && r.determinant() > 0, source, line,
-             fmt::format("the initial pose's rotation is not a rotation (|R^T R - I| = {:.3g}, "
-                         "det R = {:.4f})",
-                         orthonormality, r.determinant()),
-             "give an orthonormal rotation with determinant +1 (row-major 3x4 world_from_cam)");
+  CheckRotation(m.leftCols<3>(), source, line);  // io/trajectory.h: the pose files' tolerance
   return Rigid3d::FromMatrix3x4(m);
 }
 
@@ -151,8 +145,9 @@ Rigid3d ReadFirstPose(const std::filesystem::path& path) {
       CheckInput(std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }),
                  path.string(), number, "the initial pose holds a NaN or infinite value",
                  "write a finite TUM line: t tx ty tz qx qy qz qw");
-      CheckInput(q.norm() > 1e-9, path.string(), number, "zero quaternion",
-                 "write a valid TUM line: t tx ty tz qx qy qz qw");
+      CheckInput(std::abs(q.norm() - 1.0) <= kQuaternionNormTolerance, path.string(), number,
+                 fmt::format("|q| = {:.6g}: not a unit quaternion", q.norm()),
+                 "write a valid TUM line: t tx ty tz qx qy qz qw (unit quaternion)");
       return Rigid3d(q.normalized(), Eigen::Vector3d(v[1], v[2], v[3]));
     }
     throw InputError(path.string(), number,
@@ -204,12 +199,8 @@ RunSummary RunSequence(const RunOptions& run) {
                          effective.rectifier.get());
   }
   TrajectoryWriter writer(run.trajectory_path, run.format);
-  std::optional<std::ofstream> stats_out;
-  if (run.stats_path) {
-    stats_out.emplace(*run.stats_path);
-    CheckInput(stats_out->good(), run.stats_path->string(), 0, "cannot write the stats file",
-               "check that the folder exists and is writable");
-  }
+  std::optional<OutputFile> stats_out;
+  if (run.stats_path) stats_out.emplace(*run.stats_path, OutputFile::Mode::kIncremental);
   const std::size_t total =
       run.max_frames > 0 ? std::min<std::size_t>(run.max_frames, sequence.size()) : sequence.size();
   Tracker tracker(summary.camera, summary.options, run.world_from_cam_initial,
@@ -229,18 +220,22 @@ RunSummary RunSequence(const RunOptions& run) {
         pair = sequence.LoadStereoPair(i);
         if (effective.rectifier) pair = effective.rectifier->Rectify(*pair);
       } catch (const InputError& e) {
-        spdlog::warn("frame {}: {}; pose from the motion model", i, e.what());
+        // Frame 0 sets the initial pose and the scale: without it the whole trajectory is wrong.
+        if (i == 0) throw;
+        spdlog::warn("frame {}: {}; frame skipped, pose from the motion model", i, e.what());
       }
     }
     const TrackResult result = pair ? tracker.Track(pair->left, pair->right, sequence.timestamp(i))
                                     : tracker.SkipFrame(sequence.timestamp(i));
     writer.Write(sequence.timestamp(i), result.world_from_cam);
-    if (stats_out) *stats_out << result.stats.ToJson() << '\n' << std::flush;
+    if (stats_out) stats_out->Write(result.stats.ToJson() + '\n');
     summary.stats.push_back(result.stats);
     summary.world_from_cam.push_back(result.world_from_cam);
     if (progress) progress->Update(i + 1);
   }
   tracker.Finish();
+  writer.Close();
+  if (stats_out) stats_out->Commit();
   if (progress) progress->Finish();
   summary.lock_events = tracker.lock_events();
   if (plane_map) summary.final_map_lock = MapLockName(tracker.map_lock());

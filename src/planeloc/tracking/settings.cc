@@ -7,10 +7,12 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <regex>
 #include <sstream>
 
 #include "planeloc/tracking/settings_reader.h"
 #include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
 
 namespace planeloc {
 namespace {
@@ -213,7 +215,10 @@ void ReportInvalidValues(SettingsReader& reader, const TrackerOptions& defaults)
     try {
       options.Check();
     } catch (const OptionsError& e) {
-      reader.AddError(name, fmt::format("a valid value ({})", e.what()));
+      // The key is named: drop the options struct's name ("OrbOptions: num_features ...").
+      const std::string rule =
+          std::regex_replace(e.what(), std::regex("[A-Za-z]+Options(: |\\.)"), "");
+      reader.AddError(name, fmt::format("a valid value ({})", rule));
       options = defaults;
     }
   }
@@ -381,10 +386,7 @@ std::string TrackerSettingsYaml(const TrackerOptions& options, const StereoCamer
 void WriteTrackerSettings(const std::filesystem::path& path, const TrackerOptions& options,
                           const StereoCamera& camera, bool calibration_from_settings,
                           const StereoRectifier* rectifier) {
-  std::ofstream out(path);
-  CheckInput(out.good(), path.string(), 0, "cannot write the effective settings",
-             "check that the output folder is writable");
-  out << TrackerSettingsYaml(options, camera, calibration_from_settings, rectifier);
+  WriteFileWhole(path, TrackerSettingsYaml(options, camera, calibration_from_settings, rectifier));
 }
 
 }  // namespace planeloc
