@@ -56,6 +56,7 @@ void PlaneAssociationOptions::Check() const {
   if (warn_after_windows < 1) {
     throw OptionsError("PlaneAssociationOptions.warn_after_windows must be >= 1");
   }
+  crease.Check();
 }
 
 std::optional<PointEstimate> StereoPointEstimate(const StereoCamera& camera,
@@ -138,6 +139,34 @@ PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationO
     }
     planes_.push_back(std::move(flat));
   }
+  if (options_.crease_check) {
+    CreaseCheckOptions crease = options_.crease;
+    crease.creases.min_plane_area = options_.min_plane_area;
+    crease.region_margin = options_.polygon_margin;
+    creases_ = std::make_unique<CreaseChecker>(planes, crease);
+  }
+}
+
+std::optional<CreaseCheckStats> PlaneAssociator::CheckKeyframe(
+    int keyframe_id, const Rigid3d& cam_from_world, const StereoCamera& camera,
+    const std::vector<cv::Mat>& left_pyramid) {
+  const int level = options_.crease.lsd_level;
+  if (!creases_ || level >= static_cast<int>(left_pyramid.size()) || left_pyramid[level].empty()) {
+    return std::nullopt;
+  }
+  return creases_->CheckKeyframe(keyframe_id, cam_from_world, camera, left_pyramid[level]);
+}
+
+bool PlaneAssociator::GateAllows(int plane_id, const Eigen::Vector3d& point_in_map,
+                                 const std::vector<KeypointView>& views) {
+  if (!options_.crease_gate || !creases_) return true;
+  for (const KeypointView& view : views) {
+    if (!creases_->Allows(view.keyframe_id, view.keypoint, point_in_map, plane_id)) {
+      ++gate_rejections_;
+      return false;
+    }
+  }
+  return true;
 }
 
 std::int64_t PlaneAssociator::CellKey(const Eigen::Vector3d& point) const {
@@ -251,6 +280,8 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
 int PlaneAssociator::UpdateHealth(int associations) {
   ++windows_;
   total_associations_ += associations;
+  window_gate_rejections_ = gate_rejections_;
+  gate_rejections_ = 0;
   int disabled_now = 0, judged = 0;
   std::vector<double> values;
   for (FlatPlane& flat : planes_) {

@@ -105,6 +105,10 @@ const std::vector<Key>& Keys() {
       D("Planes.biasMin", [](O& o) -> double& { return o.planes.bias_min; }),
       D("Planes.biasSignificance", [](O& o) -> double& { return o.planes.bias_significance; }),
       I("Planes.biasMinPoints", [](O& o) -> int& { return o.planes.bias_min_points; }),
+      B("Planes.creaseCheck", [](O& o) -> bool& { return o.planes.crease_check; }),
+      B("Planes.creaseGate", [](O& o) -> bool& { return o.planes.crease_gate; }),
+      I("Planes.lsdLevel", [](O& o) -> int& { return o.planes.crease.lsd_level; }),
+      D("Planes.creaseConfirmPx", [](O& o) -> double& { return o.planes.crease.confirm_px; }),
       B("System.deterministic", [](O& o) -> bool& { return o.deterministic; }),
       I("System.threads", [](O& o) -> int& { return o.num_threads; }),
   };
