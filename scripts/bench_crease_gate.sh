@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Issue 10 item 1 ablation: ATE (no alignment) of `planeloc run --deterministic` with the LSD
+# crease gate off (Planes.creaseGate: 0, the default) and on, with the clean plane map and wrong
+# ones (scripts/corrupt_planes.py), on the data layout of scripts/bench_wrong_map.sh (run that
+# first, or let this script build it: it calls bench_wrong_map.sh's steps for missing maps).
+# Prints per seed and map: ATE off, ATE on, and from the gate-on run's stats: keyframes checked,
+# mean visible / confirmed creases per checked keyframe, median of the per-keyframe median edge
+# distances (px), associations refused by the gate (sum over keyframes).
+#
+# Usage: scripts/bench_crease_gate.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
+#        [--maps "clean move0.2"] [--init-sigma "0 0 0"]
+# The start is exact by default (--init-sigma "0 0 0": planes active from frame 0, as in the
+# wrong-map table of docs/benchmarks.md); "2 0.5 5" adds the map lock.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+planeloc="${PLANELOC_BIN:-${PLANELOC_BUILD_DIR:-$root/build}/bin/planeloc}"
+preset=small
+seeds="3 11 21"
+out=/tmp/planeloc-bench-wrong-map
+maps="clean move0.2"
+init_sigma="0 0 0"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --preset) preset="$2"; shift 2 ;;
+    --seeds) seeds="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    --maps) maps="$2"; shift 2 ;;
+    --init-sigma) init_sigma="$2"; shift 2 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    *) echo "bench_crease_gate.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+mkdir -p "$out"
+printf '%%YAML:1.0\nPlanes.creaseGate: 0\n' >"$out/gate_off.yaml"
+printf '%%YAML:1.0\nPlanes.creaseGate: 1\n' >"$out/gate_on.yaml"
+ate() {
+  "$planeloc" eval --gt "$1" --est "$2" --align none --json "$2.ate.json" >/dev/null
+  python3 -c 'import json,sys; print("%.4f" % json.load(open(sys.argv[1]))["ape"]["rmse"])' "$2.ate.json"
+}
+crease_stats() {  # keyframes, mean visible, mean confirmed, median edge px, refused
+  python3 - "$1" <<'EOF'
+import json, statistics, sys
+rows = [json.loads(l) for l in open(sys.argv[1])]
+checks = [r["crease_check"] for r in rows if "crease_check" in r]
+if not checks:
+    print("0 - - - -"); sys.exit()
+edges = [c["median_edge_px"] for c in checks if "median_edge_px" in c]
+print(len(checks), "%.1f" % statistics.mean(c["visible_creases"] for c in checks),
+      "%.1f" % statistics.mean(c["confirmed_creases"] for c in checks),
+      "%.2f" % statistics.median(edges) if edges else "-", sum(c["gate_rejected"] for c in checks))
+EOF
+}
+echo "preset $preset, binary $planeloc"
+echo "seed map ate_off ate_on keyframes_checked visible confirmed median_edge_px refused"
+for seed in $seeds; do
+  d="$out/$preset-$seed"
+  if [ ! -f "$d/planes.json" ]; then
+    "$root/scripts/bench_wrong_map.sh" --preset "$preset" --seeds "$seed" --out "$out" >/dev/null
+  fi
+  for kind in $maps; do
+    map="$d/planes.json"
+    if [ "$kind" != clean ]; then
+      map="$d/planes_$kind.json"
+      if [ ! -f "$map" ]; then
+        case "$kind" in
+          move*) arg=(--move "${kind#move}") ;;
+          rot*) arg=(--rotate-deg "${kind#rot}") ;;
+        esac
+        python3 "$root/scripts/corrupt_planes.py" "$d/planes.json" "$map" --seed "$seed" \
+          --fraction 0.2 "${arg[@]}" 2>>"$d/log.txt"
+      fi
+    fi
+    r="$d/crease"
+    mkdir -p "$r"
+    row="$seed $kind"
+    for gate in off on; do
+      "$planeloc" run --sequence "$d/sim/sequences/00" --init-pose-from "$d/sim/poses/00.txt" \
+        --planes "$map" --init-sigma "$init_sigma" --config "$out/gate_$gate.yaml" --deterministic \
+        --out "$r/traj_${kind}_$gate.txt" --stats "$r/stats_${kind}_$gate.jsonl" \
+        >"$r/run_${kind}_$gate.log" 2>&1
+      row="$row $(ate "$d/sim/poses/00.txt" "$r/traj_${kind}_$gate.txt")"
+    done
+    echo "$row $(crease_stats "$r/stats_${kind}_on.jsonl")"
+  done
+done
