@@ -111,7 +111,11 @@ std::string CreaseCheckStats::ToJson() const {
       "\"confirmed_creases\":{},\"matched_runs\":{}",
       lsd_segments, visible_planes, visible_creases, confirmed_creases, matched_runs);
   if (median_edge_px) json += fmt::format(",\"median_edge_px\":{:.3f}", *median_edge_px);
-  return json + fmt::format(",\"gate_rejected\":{},\"ms\":{:.3f}}}", gate_rejected, ms);
+  return json + fmt::format(
+                    ",\"gate_rejected\":{},\"gate_rejected_region\":{},\"gate_rejected_side\":{},"
+                    "\"ms\":{:.3f}}}",
+                    gate_rejected_region + gate_rejected_side, gate_rejected_region,
+                    gate_rejected_side, ms);
 }
 
 PlaneLabelImage RenderPlaneLabels(const std::vector<MapPlane>& planes,
@@ -330,10 +334,11 @@ const KeyframeCreaseCheck* CreaseChecker::check(int keyframe_id) const {
   return it == checks_.end() ? nullptr : &it->second;
 }
 
-bool CreaseChecker::Allows(int keyframe_id, const Eigen::Vector2d& keypoint,
-                           const Eigen::Vector3d& point_in_map, int plane_id) const {
+CreaseChecker::Verdict CreaseChecker::Judge(int keyframe_id, const Eigen::Vector2d& keypoint,
+                                            const Eigen::Vector3d& point_in_map,
+                                            int plane_id) const {
   const KeyframeCreaseCheck* check = this->check(keyframe_id);
-  if (!check) return true;
+  if (!check) return Verdict::kAllowed;
   // Inside the plane's image region, grown by the associator's margin at the point's depth.
   const PlaneLabelImage& labels = check->labels;
   const double depth = std::max((check->cam_from_world * point_in_map).z(), options_.near_depth);
@@ -341,7 +346,7 @@ bool CreaseChecker::Allows(int keyframe_id, const Eigen::Vector2d& keypoint,
       std::min(options_.max_region_margin_px, check->fx * options_.region_margin / depth);
   const int reach = static_cast<int>(std::ceil(margin_px / labels.downsample));
   const cv::Point c = Cell(labels, keypoint);
-  bool inside = false;
+  bool inside = !options_.gate_region;
   for (int y = std::max(0, c.y - reach);
        !inside && y <= std::min(labels.plane_id.rows - 1, c.y + reach); ++y) {
     for (int x = std::max(0, c.x - reach); x <= std::min(labels.plane_id.cols - 1, c.x + reach);
@@ -352,7 +357,8 @@ bool CreaseChecker::Allows(int keyframe_id, const Eigen::Vector2d& keypoint,
       }
     }
   }
-  if (!inside) return false;
+  if (!inside) return Verdict::kOutsideRegion;
+  if (!options_.gate_side) return Verdict::kAllowed;
   // Not across a confirmed crease that bounds the plane.
   for (const ProjectedCrease& run : check->runs) {
     if (!run.confirmed) continue;
@@ -364,9 +370,11 @@ bool CreaseChecker::Allows(int keyframe_id, const Eigen::Vector2d& keypoint,
     const Eigen::Vector2d e = axis / length;
     const double along = e.dot(keypoint - run.start);
     if (along < 0 || along > length) continue;
-    if (side * Cross(e, keypoint - run.start) < -options_.side_tolerance_px) return false;
+    if (side * Cross(e, keypoint - run.start) < -options_.side_tolerance_px) {
+      return Verdict::kAcrossCrease;
+    }
   }
-  return true;
+  return Verdict::kAllowed;
 }
 
 }  // namespace planeloc

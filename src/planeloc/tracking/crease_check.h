@@ -54,7 +54,10 @@ struct CreaseCheckOptions {
   double region_margin = 0.5;          // metres at the point's depth (Planes.polygonMargin)
   double max_region_margin_px = 40.0;  // pixels: cap of that margin for near points
   double side_tolerance_px = 2.0;      // pixels across a confirmed crease still accepted
-  int keep_keyframes = 64;             // checks kept for the gate (newest)
+  // The gate's two tests, for the ablation (Planes.creaseGateRegion / creaseGateSide).
+  bool gate_region = true;  // keypoint in the plane's image region
+  bool gate_side = true;    // keypoint not across a confirmed crease bounding the plane
+  int keep_keyframes = 64;  // checks kept for the gate (newest)
 
   void Check() const;  // throws OptionsError naming the field
 };
@@ -66,7 +69,9 @@ struct CreaseCheckStats {
   int confirmed_creases = 0;             // creases with a confirmed run
   int matched_runs = 0;                  // visible runs with a parallel segment within search_px
   std::optional<double> median_edge_px;  // median edge distance of those runs, level-0 pixels
-  int gate_rejected = 0;       // associations the gate refused in the keyframe's BA window
+  // Associations the gate refused in the keyframe's BA window: outside the plane's image
+  // region, across a confirmed crease.
+  int gate_rejected_region = 0, gate_rejected_side = 0;
   double ms = 0;               // LSD + projection + matching
   std::string ToJson() const;  // one JSON object
 };
@@ -132,8 +137,13 @@ class CreaseChecker {
                                  const StereoCamera& camera, const cv::Mat& image);
   // The gate for one view of a point (see the header comment): its keypoint in keyframe
   // `keyframe_id` (level-0 pixels) and its position. True when the keyframe was not checked.
+  enum class Verdict { kAllowed, kOutsideRegion, kAcrossCrease };
+  Verdict Judge(int keyframe_id, const Eigen::Vector2d& keypoint,
+                const Eigen::Vector3d& point_in_map, int plane_id) const;
   bool Allows(int keyframe_id, const Eigen::Vector2d& keypoint, const Eigen::Vector3d& point_in_map,
-              int plane_id) const;
+              int plane_id) const {
+    return Judge(keyframe_id, keypoint, point_in_map, plane_id) == Verdict::kAllowed;
+  }
 
   const std::vector<PlaneCrease>& creases() const { return creases_; }
   const KeyframeCreaseCheck* check(int keyframe_id) const;

@@ -161,8 +161,10 @@ bool PlaneAssociator::GateAllows(int plane_id, const Eigen::Vector3d& point_in_m
                                  const std::vector<KeypointView>& views) {
   if (!options_.crease_gate || !creases_) return true;
   for (const KeypointView& view : views) {
-    if (!creases_->Allows(view.keyframe_id, view.keypoint, point_in_map, plane_id)) {
-      ++gate_rejections_;
+    const CreaseChecker::Verdict verdict =
+        creases_->Judge(view.keyframe_id, view.keypoint, point_in_map, plane_id);
+    if (verdict != CreaseChecker::Verdict::kAllowed) {
+      ++gate_rejections_[verdict == CreaseChecker::Verdict::kOutsideRegion ? 0 : 1];
       return false;
     }
   }
@@ -280,8 +282,10 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
 int PlaneAssociator::UpdateHealth(int associations) {
   ++windows_;
   total_associations_ += associations;
-  window_gate_rejections_ = gate_rejections_;
-  gate_rejections_ = 0;
+  for (int k = 0; k < 2; ++k) {
+    window_gate_rejections_[k] = gate_rejections_[k];
+    gate_rejections_[k] = 0;
+  }
   int disabled_now = 0, judged = 0;
   std::vector<double> values;
   for (FlatPlane& flat : planes_) {
@@ -336,6 +340,11 @@ int PlaneAssociator::UpdateHealth(int associations) {
         map_name_, num_disabled_, judged);
   }
   return disabled_now;
+}
+
+void PlaneAssociator::FillGateStats(CreaseCheckStats& stats) const {
+  stats.gate_rejected_region = window_gate_rejections_[0];
+  stats.gate_rejected_side = window_gate_rejections_[1];
 }
 
 const MapPlane& PlaneAssociator::plane(int id) const {

@@ -150,8 +150,11 @@ class PlaneAssociator {
   // options.crease_gate off); counts refusals for the current window.
   bool GateAllows(int plane_id, const Eigen::Vector3d& point_in_map,
                   const std::vector<KeypointView>& views);
-  // Refusals of the gate in the window last closed by UpdateHealth.
-  int window_gate_rejections() const { return window_gate_rejections_; }
+  // Refusals of the gate in the window last closed by UpdateHealth (region, side), into `stats`.
+  void FillGateStats(CreaseCheckStats& stats) const;
+  int window_gate_rejections() const {
+    return window_gate_rejections_[0] + window_gate_rejections_[1];
+  }
   const CreaseChecker* crease_checker() const { return creases_.get(); }
 
   // Plane by id (as in planes.json). Throws std::out_of_range for an unknown id.
@@ -190,7 +193,7 @@ class PlaneAssociator {
   long long total_associations_ = 0;
   bool warned_no_association_ = false, warned_most_disabled_ = false;
   std::unique_ptr<CreaseChecker> creases_;  // with options.crease_check
-  int gate_rejections_ = 0, window_gate_rejections_ = 0;
+  int gate_rejections_[2] = {0, 0}, window_gate_rejections_[2] = {0, 0};  // region, side
 };
 
 }  // namespace planeloc

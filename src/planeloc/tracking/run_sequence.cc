@@ -262,7 +262,8 @@ RunSummary RunSequence(const RunOptions& run) {
       ++summary.crease_keyframes;
       summary.mean_visible_creases += s.crease_check->visible_creases;
       summary.mean_confirmed_creases += s.crease_check->confirmed_creases;
-      summary.gate_rejected += s.crease_check->gate_rejected;
+      summary.gate_rejected +=
+          s.crease_check->gate_rejected_region + s.crease_check->gate_rejected_side;
       if (s.crease_check->median_edge_px) edge_medians.push_back(*s.crease_check->median_edge_px);
     }
     if (s.ba_plane_residuals) {

@@ -107,6 +107,8 @@ const std::vector<Key>& Keys() {
       I("Planes.biasMinPoints", [](O& o) -> int& { return o.planes.bias_min_points; }),
       B("Planes.creaseCheck", [](O& o) -> bool& { return o.planes.crease_check; }),
       B("Planes.creaseGate", [](O& o) -> bool& { return o.planes.crease_gate; }),
+      B("Planes.creaseGateRegion", [](O& o) -> bool& { return o.planes.crease.gate_region; }),
+      B("Planes.creaseGateSide", [](O& o) -> bool& { return o.planes.crease.gate_side; }),
       I("Planes.lsdLevel", [](O& o) -> int& { return o.planes.crease.lsd_level; }),
       D("Planes.creaseConfirmPx", [](O& o) -> double& { return o.planes.crease.confirm_px; }),
       B("System.deterministic", [](O& o) -> bool& { return o.deterministic; }),

@@ -433,7 +433,7 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   job.problem =
       BuildLocalWindow(map_, kf_id, options_, camera_, planes_active ? planes_.get() : nullptr);
   if (planes_) stats.planes_disabled = planes_->num_disabled();
-  if (stats.crease_check) stats.crease_check->gate_rejected = planes_->window_gate_rejections();
+  if (stats.crease_check) planes_->FillGateStats(*stats.crease_check);
   if (job.problem.observations.empty()) {
     // Nothing to adjust (a keyframe without points).
   } else if (ba_worker_) {
