@@ -238,6 +238,7 @@ void MatchCreases(const std::vector<LineSegment>& segments, const CreaseCheckOpt
     const Eigen::Vector2d e = axis / length;
     std::optional<double> nearest;
     std::vector<std::pair<double, double>> covered;  // intervals along the run, pixels
+    double offset_sum = 0, offset_weight = 0;
     for (const LineSegment& segment : segments) {
       const Eigen::Vector2d s = segment.end - segment.start;
       const double segment_length = s.norm();
@@ -249,7 +250,13 @@ void MatchCreases(const std::vector<LineSegment>& segments, const CreaseCheckOpt
                                      std::abs(Cross(e, segment.end - run.start)));
       if (distance > options.search_px) continue;
       if (!nearest || distance < *nearest) nearest = distance;
-      if (distance <= options.confirm_px) covered.emplace_back(lo, hi);
+      if (distance <= options.confirm_px) {
+        covered.emplace_back(lo, hi);
+        const double signed_offset =
+            0.5 * (Cross(e, segment.start - run.start) + Cross(e, segment.end - run.start));
+        offset_sum += (hi - lo) * signed_offset;
+        offset_weight += hi - lo;
+      }
     }
     std::sort(covered.begin(), covered.end());
     double union_length = 0, reach = 0;
@@ -261,6 +268,7 @@ void MatchCreases(const std::vector<LineSegment>& segments, const CreaseCheckOpt
     run.edge_distance_px = nearest;
     run.overlap = union_length / length;
     run.confirmed = run.overlap >= options.min_overlap;
+    run.image_offset_px = offset_weight > 0 ? offset_sum / offset_weight : 0.0;
   }
 }
 
@@ -370,7 +378,8 @@ CreaseChecker::Verdict CreaseChecker::Judge(int keyframe_id, const Eigen::Vector
     const Eigen::Vector2d e = axis / length;
     const double along = e.dot(keypoint - run.start);
     if (along < 0 || along > length) continue;
-    if (side * Cross(e, keypoint - run.start) < -options_.side_tolerance_px) {
+    const double from_edge = Cross(e, keypoint - run.start) - run.image_offset_px;
+    if (side * from_edge < -options_.side_tolerance_px) {
       return Verdict::kAcrossCrease;
     }
   }

@@ -53,7 +53,9 @@ struct CreaseCheckOptions {
   double min_overlap = 0.3;            // fraction of a visible run covered by confirming segments
   double region_margin = 0.5;          // metres at the point's depth (Planes.polygonMargin)
   double max_region_margin_px = 40.0;  // pixels: cap of that margin for near points
-  double side_tolerance_px = 2.0;      // pixels across a confirmed crease still accepted
+  // Pixels across a confirmed crease (its image edge) still accepted
+  // (Planes.creaseSideTolerancePx).
+  double side_tolerance_px = 2.0;
   // The gate's two tests, for the ablation (Planes.creaseGateRegion / creaseGateSide).
   bool gate_region = true;  // keypoint in the plane's image region
   bool gate_side = true;    // keypoint not across a confirmed crease bounding the plane
@@ -96,6 +98,10 @@ struct ProjectedCrease {
   std::optional<double> edge_distance_px;
   double overlap = 0;  // fraction of the run covered by segments within confirm_px
   bool confirmed = false;
+  // Pixels: where the image shows the crease, relative to the projected line: the mean signed
+  // offset (along +90 deg of start->end, as the sides) of the confirming segments, weighted by
+  // their overlap. The gate measures "across" from the line shifted by it.
+  double image_offset_px = 0;
 };
 
 struct KeyframeCreaseCheck {

@@ -109,6 +109,8 @@ const std::vector<Key>& Keys() {
       B("Planes.creaseGate", [](O& o) -> bool& { return o.planes.crease_gate; }),
       B("Planes.creaseGateRegion", [](O& o) -> bool& { return o.planes.crease.gate_region; }),
       B("Planes.creaseGateSide", [](O& o) -> bool& { return o.planes.crease.gate_side; }),
+      D("Planes.creaseSideTolerancePx",
+        [](O& o) -> double& { return o.planes.crease.side_tolerance_px; }),
       I("Planes.lsdLevel", [](O& o) -> int& { return o.planes.crease.lsd_level; }),
       D("Planes.creaseConfirmPx", [](O& o) -> double& { return o.planes.crease.confirm_px; }),
       B("System.deterministic", [](O& o) -> bool& { return o.deterministic; }),
