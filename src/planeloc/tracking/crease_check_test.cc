@@ -181,6 +181,34 @@ TEST(CreaseCheckTest, GateRefusesKeypointsAcrossAConfirmedCrease) {
   EXPECT_TRUE(checker.Allows(1, pixel(below), below, kFacade));
 }
 
+TEST(CreaseCheckTest, GateMeasuresFromTheImageEdge) {
+  // The camera turned by +-0.75 degrees about y: the crease projects fx tan(0.75 deg)
+  // sin(15.4 deg) = 2.4 px across the drawn edge, still confirmed (confirm_px 3). A keypoint
+  // 1 px on the facade's side of the drawn edge is allowed for the facade with a 0.5 px
+  // tolerance: measured from the projection it would be 1.4 px across for one of the two turns.
+  const StereoCamera camera = testing::RoundStereoCamera();
+  const cv::Mat image = RenderStreet(camera);
+  CreaseCheckOptions options = LevelZero();
+  options.side_tolerance_px = 0.5;
+  CreaseChecker checker(Street(), options);
+  // The drawn edge at z = 10, (u, v) = (1020, 300.5); the facade side is towards the vanishing
+  // point's upper side: the unit normal (1.65, -6) / 6.22 of the edge direction (6, 1.65).
+  const Eigen::Vector2d on_edge(1020, 300.5), up = Eigen::Vector2d(1.65, -6).normalized();
+  const Eigen::Vector2d keypoint = on_edge + 1.0 * up;
+  const Eigen::Vector3d point(6, 1.55, 10);
+  for (const double degrees : {0.75, -0.75}) {
+    const Rigid3d turned(Eigen::Quaterniond(Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0,
+                                                              Eigen::Vector3d::UnitY())),
+                         Eigen::Vector3d::Zero());
+    const CreaseCheckStats stats = checker.CheckKeyframe(0, turned, camera, image);
+    ASSERT_EQ(stats.confirmed_creases, 1) << degrees;
+    const ProjectedCrease& run = checker.check(0)->runs.front();
+    EXPECT_NEAR(std::abs(run.image_offset_px), 2.4, 0.5) << degrees;
+    EXPECT_TRUE(checker.Allows(0, keypoint, point, kFacade)) << degrees;
+    EXPECT_FALSE(checker.Allows(0, on_edge - 2.0 * up, point, kFacade)) << degrees;
+  }
+}
+
 // End to end through the BA window: the point below the crease passes the facade's 3-D gate
 // (5 cm off it, inside its outline + 0.5 m) and is associated with it without the crease gate;
 // with the gate it is not. A point on the facade stays associated either way.
