@@ -9,11 +9,11 @@
 # across a crease).
 #
 # Usage: scripts/bench_crease_gate.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
-#        [--maps "clean move0.2"] [--init-sigma "0 0 0"]
+#        [--maps "clean move0.2"] [--init-sigma "0 0 0"] [--variant both] [--side-tolerance PX]
 # The start is exact by default (--init-sigma "0 0 0": planes active from frame 0, as in the
 # wrong-map table of docs/benchmarks.md); "2 0.5 5" adds the map lock. --variant both|region|side:
 # the gate's tests used in the "on" runs (both by default; region: Planes.creaseGateSide 0;
-# side: Planes.creaseGateRegion 0).
+# side: Planes.creaseGateRegion 0); --side-tolerance PX sets Planes.creaseSideTolerancePx.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 planeloc="${PLANELOC_BIN:-${PLANELOC_BUILD_DIR:-$root/build}/bin/planeloc}"
@@ -23,6 +23,7 @@ out=/tmp/planeloc-bench-wrong-map
 maps="clean move0.2"
 init_sigma="0 0 0"
 variant=both
+side_tol=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --preset) preset="$2"; shift 2 ;;
@@ -31,6 +32,7 @@ while [ $# -gt 0 ]; do
     --maps) maps="$2"; shift 2 ;;
     --init-sigma) init_sigma="$2"; shift 2 ;;
     --variant) variant="$2"; shift 2 ;;
+    --side-tolerance) side_tol="$2"; shift 2 ;;
     -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
     *) echo "bench_crease_gate.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -45,6 +47,10 @@ case "$variant" in
 esac
 on=on
 [ "$variant" = both ] || on="on_$variant"
+if [ -n "$side_tol" ]; then
+  echo "Planes.creaseSideTolerancePx: $side_tol" >>"$out/gate_on.yaml"
+  on="${on}_tol$side_tol"
+fi
 ate() {
   "$planeloc" eval --gt "$1" --est "$2" --align none --json "$2.ate.json" >/dev/null
   python3 -c 'import json,sys; print("%.4f" % json.load(open(sys.argv[1]))["ape"]["rmse"])' "$2.ate.json"
