@@ -92,6 +92,14 @@ int Run(const RunArgs& args) {
         "plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average, {} "
         "planes disabled (biased)",
         summary.planes, summary.mean_ba_plane_residuals, summary.planes_disabled);
+    if (summary.crease_keyframes > 0) {
+      spdlog::info(
+          "crease check (LSD): {} keyframes, {:.1f} visible / {:.1f} confirmed creases per "
+          "keyframe, median edge distance {}, {} associations refused by the crease gate",
+          summary.crease_keyframes, summary.mean_visible_creases, summary.mean_confirmed_creases,
+          summary.median_edge_px ? fmt::format("{:.2f} px", *summary.median_edge_px) : "-",
+          summary.gate_rejected);
+    }
     if (options.start_prior.Exact()) {
       spdlog::info(
           "map lock: exact start (--init-sigma \"0 0 0\"), plane constraints from frame 0");

@@ -8,6 +8,20 @@
 #include <set>
 
 namespace planeloc {
+namespace {
+
+// The point's keypoints in the keyframes observing it, for the crease gate.
+std::vector<PlaneAssociator::KeypointView> KeypointViews(const SparseMap& map,
+                                                         const MapPoint& point) {
+  std::vector<PlaneAssociator::KeypointView> views;
+  for (const auto& [kf_id, keypoint] : point.observations) {
+    const cv::KeyPoint& kp = map.keyframe(kf_id).features.left.keypoints[keypoint];
+    views.push_back({kf_id, Eigen::Vector2d(kp.pt.x, kp.pt.y)});
+  }
+  return views;
+}
+
+}  // namespace
 
 std::vector<int> CreateStereoPoints(SparseMap& map, int keyframe_id, const StereoCamera& camera,
                                     const TrackerOptions& options) {
@@ -156,7 +170,12 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
       // Decided from the point's stereo measurements, not from its BA position (hysteresis).
       if (const auto estimate = VisualPointEstimate(map, point, camera, options)) {
         planes->Record(id, *estimate);
-        if (const auto association = planes->Associate(*estimate)) {
+        auto association = planes->Associate(*estimate);
+        if (association && !planes->GateAllows(association->plane_id, estimate->point_in_map,
+                                               KeypointViews(map, point))) {
+          association.reset();  // across a confirmed crease, or outside the plane's image region
+        }
+        if (association) {
           window_point.plane_id = association->plane_id;
           window_point.plane_sigma = association->sigma;
           ++associations;

@@ -33,7 +33,8 @@ int CullRecentPoints(SparseMap& map, std::vector<int>& recent_point_ids, int cur
 // keyframe is fixed when nothing else is (gauge freedom). The window has
 // options.ba_window_keyframes keyframes, options.ba_window_keyframes_turn at a turn (see
 // IsTurning). With `planes`: every window point whose visual estimate (VisualPointEstimate)
-// passes the plane gate gets its plane id and the gate's sigma, the planes used are added to
+// passes the plane gate (and PlaneAssociator::GateAllows, the crease gate, for its keypoints)
+// gets its plane id and the gate's sigma, the planes used are added to
 // the problem, the planes' bias statistics are updated (PlaneAssociator::Record, UpdateHealth),
 // and a window with fewer than options.planes.min_associations associated points gets none
 // (staged activation: plain visual BA).

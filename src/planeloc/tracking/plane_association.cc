@@ -56,6 +56,7 @@ void PlaneAssociationOptions::Check() const {
   if (warn_after_windows < 1) {
     throw OptionsError("PlaneAssociationOptions.warn_after_windows must be >= 1");
   }
+  crease.Check();
 }
 
 std::optional<PointEstimate> StereoPointEstimate(const StereoCamera& camera,
@@ -138,6 +139,36 @@ PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationO
     }
     planes_.push_back(std::move(flat));
   }
+  if (options_.crease_check) {
+    CreaseCheckOptions crease = options_.crease;
+    crease.creases.min_plane_area = options_.min_plane_area;
+    crease.region_margin = options_.polygon_margin;
+    creases_ = std::make_unique<CreaseChecker>(planes, crease);
+  }
+}
+
+std::optional<CreaseCheckStats> PlaneAssociator::CheckKeyframe(
+    int keyframe_id, const Rigid3d& cam_from_world, const StereoCamera& camera,
+    const std::vector<cv::Mat>& left_pyramid) {
+  const int level = options_.crease.lsd_level;
+  if (!creases_ || level >= static_cast<int>(left_pyramid.size()) || left_pyramid[level].empty()) {
+    return std::nullopt;
+  }
+  return creases_->CheckKeyframe(keyframe_id, cam_from_world, camera, left_pyramid[level]);
+}
+
+bool PlaneAssociator::GateAllows(int plane_id, const Eigen::Vector3d& point_in_map,
+                                 const std::vector<KeypointView>& views) {
+  if (!options_.crease_gate || !creases_) return true;
+  for (const KeypointView& view : views) {
+    const CreaseChecker::Verdict verdict =
+        creases_->Judge(view.keyframe_id, view.keypoint, point_in_map, plane_id);
+    if (verdict != CreaseChecker::Verdict::kAllowed) {
+      ++gate_rejections_[verdict == CreaseChecker::Verdict::kOutsideRegion ? 0 : 1];
+      return false;
+    }
+  }
+  return true;
 }
 
 std::int64_t PlaneAssociator::CellKey(const Eigen::Vector3d& point) const {
@@ -251,6 +282,10 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
 int PlaneAssociator::UpdateHealth(int associations) {
   ++windows_;
   total_associations_ += associations;
+  for (int k = 0; k < 2; ++k) {
+    window_gate_rejections_[k] = gate_rejections_[k];
+    gate_rejections_[k] = 0;
+  }
   int disabled_now = 0, judged = 0;
   std::vector<double> values;
   for (FlatPlane& flat : planes_) {
@@ -328,6 +363,11 @@ void PlaneAssociator::ResetHealth() {
     flat.touched = false;
   }
   num_disabled_ = 0;
+}
+
+void PlaneAssociator::FillGateStats(CreaseCheckStats& stats) const {
+  stats.gate_rejected_region = window_gate_rejections_[0];
+  stats.gate_rejected_side = window_gate_rejections_[1];
 }
 
 const MapPlane& PlaneAssociator::plane(int id) const {

@@ -28,6 +28,7 @@
 
 #include <Eigen/Core>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -36,6 +37,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
+#include "planeloc/tracking/crease_check.h"
 
 namespace planeloc {
 
@@ -70,6 +72,16 @@ struct PlaneAssociationOptions {
   // Planes considered (with at least bias_min_points) before "most planes disabled" or "no
   // plane ever passes the gate" is reported as a likely wrong map.
   int warn_after_windows = 10;
+  // The image-side check of the map at keyframes (crease_check.h: LSD segments against the
+  // projected creases of the map; per-keyframe stats) (Planes.creaseCheck).
+  bool crease_check = true;
+  // The crease gate (Planes.creaseGate, needs crease_check): a point is associated with a plane
+  // only if its keypoint lies in the plane's image region and not across a confirmed crease
+  // bounding it, in every checked keyframe observing it. Off: the ablation in
+  // docs/benchmarks.md ("LSD crease gate") found no gain.
+  bool crease_gate = false;
+  // Its min_plane_area and region_margin are replaced by min_plane_area and polygon_margin.
+  CreaseCheckOptions crease;
 
   void Check() const;  // throws OptionsError naming the field
 };
@@ -134,6 +146,27 @@ class PlaneAssociator {
   // error as much as the planes'. A plane that is really wrong is disabled again.
   void ResetHealth();
 
+  // The image-side check at keyframe `keyframe_id` (options.crease_check; CreaseChecker::
+  // CheckKeyframe) on level options.crease.lsd_level of its left ORB pyramid. std::nullopt when
+  // the check is off or the pyramid has no such level.
+  std::optional<CreaseCheckStats> CheckKeyframe(int keyframe_id, const Rigid3d& cam_from_world,
+                                                const StereoCamera& camera,
+                                                const std::vector<cv::Mat>& left_pyramid);
+  struct KeypointView {
+    int keyframe_id = 0;
+    Eigen::Vector2d keypoint = Eigen::Vector2d::Zero();  // level-0 pixels
+  };
+  // The crease gate for a point associated with `plane_id` (always true with
+  // options.crease_gate off); counts refusals for the current window.
+  bool GateAllows(int plane_id, const Eigen::Vector3d& point_in_map,
+                  const std::vector<KeypointView>& views);
+  // Refusals of the gate in the window last closed by UpdateHealth (region, side), into `stats`.
+  void FillGateStats(CreaseCheckStats& stats) const;
+  int window_gate_rejections() const {
+    return window_gate_rejections_[0] + window_gate_rejections_[1];
+  }
+  const CreaseChecker* crease_checker() const { return creases_.get(); }
+
   // Plane by id (as in planes.json). Throws std::out_of_range for an unknown id.
   const MapPlane& plane(int id) const;
   const PlaneHealth& health(int id) const;
@@ -170,6 +203,8 @@ class PlaneAssociator {
   int windows_ = 0;
   long long total_associations_ = 0;
   bool warned_no_association_ = false, warned_most_disabled_ = false;
+  std::unique_ptr<CreaseChecker> creases_;  // with options.crease_check
+  int gate_rejections_[2] = {0, 0}, window_gate_rejections_[2] = {0, 0};  // region, side
 };
 
 }  // namespace planeloc

@@ -241,7 +241,7 @@ RunSummary RunSequence(const RunOptions& run) {
   if (plane_map) summary.final_map_lock = MapLockName(tracker.map_lock());
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  std::vector<double> ba_medians;
+  std::vector<double> ba_medians, edge_medians;
   double tracked_points = 0, plane_residuals = 0;
   int bas = 0;
   for (const FrameStats& s : summary.stats) {
@@ -253,12 +253,28 @@ RunSummary RunSequence(const RunOptions& run) {
     tracked_points += s.tracked_points;
     if (s.ba_median_reprojection_px) ba_medians.push_back(*s.ba_median_reprojection_px);
     if (s.planes_disabled) summary.planes_disabled = *s.planes_disabled;
+    if (s.crease_check) {
+      ++summary.crease_keyframes;
+      summary.mean_visible_creases += s.crease_check->visible_creases;
+      summary.mean_confirmed_creases += s.crease_check->confirmed_creases;
+      summary.gate_rejected +=
+          s.crease_check->gate_rejected_region + s.crease_check->gate_rejected_side;
+      if (s.crease_check->median_edge_px) edge_medians.push_back(*s.crease_check->median_edge_px);
+    }
     if (s.ba_plane_residuals) {
       plane_residuals += *s.ba_plane_residuals;
       ++bas;
     }
   }
   if (bas > 0) summary.mean_ba_plane_residuals = plane_residuals / bas;
+  if (summary.crease_keyframes > 0) {
+    summary.mean_visible_creases /= summary.crease_keyframes;
+    summary.mean_confirmed_creases /= summary.crease_keyframes;
+  }
+  if (!edge_medians.empty()) {
+    std::sort(edge_medians.begin(), edge_medians.end());
+    summary.median_edge_px = edge_medians[edge_medians.size() / 2];
+  }
   if (summary.frames > 0) summary.mean_tracked_points = tracked_points / summary.frames;
   if (!ba_medians.empty()) {
     std::sort(ba_medians.begin(), ba_medians.end());

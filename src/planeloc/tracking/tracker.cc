@@ -65,6 +65,7 @@ std::string FrameStats::ToJson() const {
   if (!map_lock.empty()) json += fmt::format(",\"map_lock\":\"{}\"", map_lock);
   if (registration) json += ",\"registration\":" + *registration;
   if (planes_disabled) json += fmt::format(",\"planes_disabled\":{}", *planes_disabled);
+  if (crease_check) json += ",\"crease_check\":" + crease_check->ToJson();
   return json + "}";
 }
 
@@ -136,6 +137,7 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   stats.ms_extract = ms_extract;
   stats.features = static_cast<int>(features.left.keypoints.size());
   stats.stereo_matches = features.num_stereo_matches();
+  left_pyramid_ = features.left.pyramid;  // shallow: the Frame drops its own
   Frame frame(next_frame_id_++, timestamp, std::move(features), camera_);
 
   const auto track_start = Clock::now();
@@ -428,9 +430,14 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   }
   // Before the map lock the planes' frame is unknown: visual BA only.
   const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
+  if (planes_active) {
+    stats.crease_check =
+        planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
+  }
   job.problem =
       BuildLocalWindow(map_, kf_id, options_, camera_, planes_active ? planes_.get() : nullptr);
   if (planes_) stats.planes_disabled = planes_->num_disabled();
+  if (stats.crease_check) planes_->FillGateStats(*stats.crease_check);
   if (job.problem.observations.empty()) {
     // Nothing to adjust (a keyframe without points).
   } else if (ba_worker_) {

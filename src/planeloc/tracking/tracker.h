@@ -61,6 +61,8 @@ struct FrameStats {
   std::optional<std::string> registration;
   // Plane mode, keyframes: planes of the map disabled so far (their points sit off them).
   std::optional<int> planes_disabled;
+  // Plane mode, keyframes after the map lock: the LSD check of the map's creases (crease_check.h).
+  std::optional<CreaseCheckStats> crease_check;
   // One JSON object on one line (the --stats format).
   std::string ToJson() const;
 };
@@ -153,7 +155,8 @@ class Tracker {
   int last_keyframe_frame_id_ = 0;
   std::vector<int> recent_point_ids_;
   bool lost_before_ = false;
-  int frames_skipped_ = 0;  // frames without images since last_frame_
+  int frames_skipped_ = 0;             // frames without images since last_frame_
+  std::vector<cv::Mat> left_pyramid_;  // of the frame being tracked, for the crease check
 };
 
 }  // namespace planeloc
