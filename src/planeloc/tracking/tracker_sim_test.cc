@@ -237,8 +237,9 @@ TEST_F(TrackerSimTest, LossReinitializesAndContinues) {
   const int after_blinded = recovered_at(kBlinded), after_mirrored = recovered_at(kMirrored);
   EXPECT_LE(after_blinded, kBlinded + 2);
   EXPECT_LE(after_mirrored, kMirrored + 3);
-  if (after_blinded < kFrames) EXPECT_EQ(states[after_blinded], TrackingState::kRelocalized);
-  if (after_mirrored < kFrames) EXPECT_EQ(states[after_mirrored], TrackingState::kRelocalized);
+  ASSERT_LT(after_mirrored, kFrames);
+  EXPECT_EQ(states[after_blinded], TrackingState::kRelocalized);
+  EXPECT_EQ(states[after_mirrored], TrackingState::kRelocalized);
   for (int i = 0; i < kFrames; ++i) {
     const bool recovering =
         (i > kBlinded && i <= after_blinded) || (i > kMirrored && i <= after_mirrored);
