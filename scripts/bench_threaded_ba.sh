@@ -6,9 +6,11 @@
 # repeated REPEATS times (they are not bit-identical). Prints one line per run:
 #   tag dir mode repeat ate_m keyframes ba_counts_json
 # Usage: scripts/bench_threaded_ba.sh --bin PLANELOC --out OUT --tag TAG [--repeats N]
-#        [--no-planes] DIR...
+#        [--no-planes | --exact-start] DIR...
+# --exact-start: --init-sigma "0 0 0" (planes from frame 0, no registration worker), which
+# isolates the local BA from the map lock's timing.
 set -euo pipefail
-bin=build/bin/planeloc out=/tmp/bench_threaded_ba tag=run repeats=2 planes=1
+bin=build/bin/planeloc out=/tmp/bench_threaded_ba tag=run repeats=2 planes=1 exact=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --bin) bin="$2"; shift 2 ;;
@@ -16,6 +18,7 @@ while [ $# -gt 0 ]; do
     --tag) tag="$2"; shift 2 ;;
     --repeats) repeats="$2"; shift 2 ;;
     --no-planes) planes=0; shift ;;
+    --exact-start) exact=1; shift ;;
     *) break ;;
   esac
 done
@@ -30,6 +33,7 @@ for dir in "$@"; do
       flags=()
       [ "$mode" = deterministic ] && flags+=(--deterministic)
       if [ "$planes" = 1 ]; then flags+=(--planes "$dir/planes.json"); else flags+=(--no-planes); fi
+      [ "$exact" = 1 ] && flags+=(--init-sigma "0 0 0")
       "$bin" run --sequence "$dir/sim/sequences/00" --init-pose-from "$dir/sim/poses/00.txt" \
         "${flags[@]}" --out "$o.txt" --stats "$o.jsonl" > "$o.log" 2>&1
       ate=$("$bin" eval --gt "$dir/sim/poses/00.txt" --est "$o.txt" --align none 2>&1 |

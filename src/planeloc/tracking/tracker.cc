@@ -446,29 +446,18 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
       if (deferred_ba_keyframe_) ++ba_counts_.superseded;
       deferred_ba_keyframe_ = kf_id;
     }
-  } else {
-    BaJob job;
-    job.keyframe_id = kf_id;
-    // Before the map lock the planes' frame is unknown: visual BA only.
-    const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
-    job.problem =
-        BuildLocalWindow(map_, kf_id, options_, camera_, planes_active ? planes_.get() : nullptr);
-    if (planes_) stats.planes_disabled = planes_->num_disabled();
-    if (job.problem.observations.empty()) {
-      ++ba_counts_.empty;  // a keyframe without points
+  } else if (std::optional<BaJob> job = MakeBaJob(kf_id, stats)) {
+    SolveBaJob(camera_, options_.ba, *job);
+    const BaApplyStats applied = ApplyWindowBa(map_, job->problem, job->result, camera_);
+    if (job->result.usable) {
+      RecordBaStats(*job, applied, stats);
+      stats.ba_keyframe = kf_id;
+      ++ba_counts_.applied;
     } else {
-      SolveBaJob(camera_, options_.ba, job);
-      const BaApplyStats applied = ApplyWindowBa(map_, job.problem, job.result, camera_);
-      if (job.result.usable) {
-        RecordBaStats(job, applied, stats);
-        stats.ba_keyframe = kf_id;
-        ++ba_counts_.applied;
-      } else {
-        ++ba_counts_.unusable;
-      }
-      frame.cam_from_world = map_.keyframe(kf_id).cam_from_world;
-      frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
+      ++ba_counts_.unusable;
     }
+    frame.cam_from_world = map_.keyframe(kf_id).cam_from_world;
+    frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
   }
   stats.ms_ba += MillisecondsSince(ba_start);
   if (locker_) {
@@ -477,7 +466,7 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   }
 }
 
-void Tracker::SubmitBa(int keyframe_id, FrameStats& stats) {
+std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats) {
   BaJob job;
   job.keyframe_id = keyframe_id;
   // Before the map lock the planes' frame is unknown: visual BA only.
@@ -487,13 +476,17 @@ void Tracker::SubmitBa(int keyframe_id, FrameStats& stats) {
   if (planes_) stats.planes_disabled = planes_->num_disabled();
   if (job.problem.observations.empty()) {
     ++ba_counts_.empty;  // a keyframe without points
-    return;
+    return std::nullopt;
   }
   job.snapshot = SnapshotWindow(map_, job.problem);
   job.correction_epoch = correction_epoch_;
+  return job;
+}
+
+void Tracker::SubmitBa(int keyframe_id, FrameStats& stats) {
+  std::optional<BaJob> job = MakeBaJob(keyframe_id, stats);
   // MappingIdle() held: the worker accepts the job.
-  const bool accepted = ba_worker_->Submit(std::move(job));
-  if (!accepted) ++ba_counts_.superseded;
+  if (job && !ba_worker_->Submit(std::move(*job))) ++ba_counts_.superseded;
 }
 
 void Tracker::SubmitDeferredBa(FrameStats& stats) {

@@ -32,6 +32,7 @@
 namespace planeloc {
 
 class BaWorker;
+struct BaJob;
 
 enum class TrackingState {
   kTracking,     // tracked against the map
@@ -145,6 +146,9 @@ class Tracker {
   bool MappingIdle() const;
   // Inserts the keyframe and runs the mapping steps; fills ms_ba / reprojection stats.
   void InsertKeyframe(Frame& frame, FrameStats& stats);
+  // The keyframe's BA window with its snapshot; std::nullopt (counted as empty) without
+  // observations.
+  std::optional<BaJob> MakeBaJob(int keyframe_id, FrameStats& stats);
   // Builds the keyframe's BA window and hands it to the worker (threaded mode).
   void SubmitBa(int keyframe_id, FrameStats& stats);
   // Submits the deferred keyframe's BA once the worker is idle.
