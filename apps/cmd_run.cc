@@ -64,7 +64,10 @@ int Run(const RunArgs& args) {
   }
   options.trajectory_path = args.out;
   options.format = ParseTrajectoryFormat(args.format);
-  if (!args.stats.empty()) options.stats_path = args.stats;
+  if (!args.stats.empty()) {
+    options.stats_path = args.stats;
+    options.summary_path = args.stats + ".summary.json";
+  }
   if (!args.config.empty()) options.settings_path = args.config;
   options.calibration_from_settings = args.calib_from_settings;
   if (!args.planes.empty()) options.planes_path = args.planes;
@@ -87,6 +90,12 @@ int Run(const RunArgs& args) {
       summary.frames, summary.seconds, summary.frames / std::max(summary.seconds, 1e-9),
       summary.tracked, summary.lost, summary.skipped, summary.keyframes,
       summary.mean_tracked_points, summary.median_ba_reprojection_px);
+  spdlog::info(
+      "local BA of the {} keyframes: {} applied, {} superseded (worker busy), {} discarded (map "
+      "moved), {} unusable, {} empty; {} keyframes and {} points of late results left as they "
+      "were (moved since the snapshot)",
+      summary.ba.keyframes, summary.ba.applied, summary.ba.superseded, summary.ba.discarded,
+      summary.ba.unusable, summary.ba.empty, summary.ba.stale_keyframes, summary.ba.stale_points);
   if (options.planes_path) {
     spdlog::info(
         "plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average, {} "
@@ -174,7 +183,9 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
   cmd->add_option("--format", args->format, "kitti | tum")
       ->check(CLI::IsMember({"kitti", "tum"}))
       ->capture_default_str();
-  cmd->add_option("--stats", args->stats, "Per-frame statistics, JSON lines");
+  cmd->add_option("--stats", args->stats,
+                  "Per-frame statistics, JSON lines (and the end-of-run summary in "
+                  "<stats>.summary.json)");
   cmd->add_option(
       "--config", args->config,
       "Settings file: ORB-SLAM2 or ORB-SLAM3 stereo settings YAML and/or planeloc keys");

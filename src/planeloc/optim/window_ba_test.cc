@@ -173,8 +173,27 @@ TEST(SolveWindowBa, WrongPlaneAssociationsAreDropped) {
   with_planes.lambda = 0.5;
   const WindowBaResult planar = SolveWindowBa(s.camera, s.problem, with_planes);
   ASSERT_TRUE(planar.usable);
-  EXPECT_LE(planar.num_plane_residuals, 450 - reassigned);
-  EXPECT_LT(MeanPoseError(s, planar.cam_from_world), 1.2 * MeanPoseError(s, visual.cam_from_world));
+  // Second method: the same window with the wrong associations removed beforehand.
+  test::WindowScene oracle = test::MakeWindowScene({.seed = 9});
+  for (WindowPoint& p : oracle.problem.points) {
+    if (p.plane_id == 1 && p.id % 4 == 0) p.plane_id.reset();
+  }
+  const WindowBaResult dropped = SolveWindowBa(oracle.camera, oracle.problem, with_planes);
+  ASSERT_TRUE(dropped.usable);
+  // Every wrong association lost its residual, and no right one did.
+  EXPECT_EQ(planar.num_plane_residuals, dropped.num_plane_residuals);
+  // Round 1 still felt the wrong planes (Huber-bounded): the solutions differ by millimetres.
+  // Measured on seeds 9 / 12 / 13 (2026-12-02): largest keyframe-centre difference 2.5 / 3.0 /
+  // 8.1 mm; mean pose error 0.0046 / 0.0087 / 0.0090 m, visual only 0.0149 / 0.0067 / 0.0097 m.
+  for (const auto& [id, pose] : planar.cam_from_world) {
+    EXPECT_LT(
+        (pose.Inverse().translation - dropped.cam_from_world.at(id).Inverse().translation).norm(),
+        0.016)
+        << id;
+  }
+  const double e_planar = MeanPoseError(s, planar.cam_from_world);
+  EXPECT_LT(e_planar, 0.015);  // 1.7x the worst of the three seeds
+  EXPECT_LT(e_planar, MeanPoseError(s, visual.cam_from_world));  // 0.31x on this seed
 }
 
 // Only lambda / (1 - lambda) matters: lambda = 0.8 with sigma_plane equals lambda = 0.5 with
@@ -223,14 +242,97 @@ TEST(SolveWindowBa, PerPointPlaneSigmaWhitensThePlaneTerm) {
   EXPECT_NEAR(per_point.final_cost, reference.final_cost, 1e-9 * reference.final_cost);
 }
 
+// Gauge-free error: the mean over keyframe pairs (0, k) of the translation error of
+// cam_k_from_cam_0, which a rigid motion of the whole window does not change.
+double MeanRelativePoseError(const test::WindowScene& s, const std::map<int, Rigid3d>& poses) {
+  double sum = 0;
+  int n = 0;
+  for (const auto& [id, pose] : poses) {
+    if (id == 0) continue;
+    const Rigid3d relative = pose * poses.at(0).Inverse();
+    const Rigid3d truth = s.cam_from_world_true[id] * s.cam_from_world_true[0].Inverse();
+    sum += (relative.translation - truth.translation).norm();
+    ++n;
+  }
+  return sum / n;
+}
+
+// Metres: sigma of a point's stereo position along `normal`, from the keyframe that sees it
+// closest (depth sigma z^2 / (fx b) * sqrt(2) px for 1 px noise on both images, along the ray),
+// combined with a 5 cm map sigma: what an uncertainty-aware association hands the BA.
+double StereoSigmaAlong(const test::WindowScene& s, int point_id, const Eigen::Vector3d& normal) {
+  double best = 1e9;
+  for (const Rigid3d& cam_from_world : s.cam_from_world_true) {
+    const Eigen::Vector3d x = cam_from_world * s.point_true[point_id];
+    if (x.z() < 2.0 || x.z() > 40 * s.camera.baseline) continue;
+    const double sigma_depth = x.z() * x.z() / (s.camera.fx * s.camera.baseline) * std::sqrt(2.0);
+    const Eigen::Vector3d ray_in_world = cam_from_world.rotation.conjugate() * x.normalized();
+    const double along = sigma_depth / x.normalized().z() * std::abs(normal.dot(ray_in_world));
+    best = std::min(best, along);
+  }
+  return std::sqrt(best * best + 0.05 * 0.05);
+}
+
+// A near miss (issue 13): a quarter of the left wall's points associated with a parallel plane
+// 0.3 m in front of it (a parked truck, scaffolding, a map 0.3 m off). The BA cannot reject it
+// (0.3 m is within plane_outlier_distance, and all but 2-4 of the ~37 keep their residual):
+// at these depths stereo barely sees 0.3 m along the wall (the points slide 0.2-1 m along their
+// rays and stay chi2 inliers), so rejecting near misses is the association gate's job. What the
+// BA does is bound the damage by each point's own sigma (the stereo uncertainty along the normal
+// the association hands over): the pose error must be lower than with the global 5 cm sigma and
+// stay bounded. Measured (2026-12-02), seeds 9 / 12 / 13, mean free-keyframe error: global sigma
+// 0.0143 / 0.0231 / 0.0282 m, per-point sigma 0.0052 / 0.0133 / 0.0186 m (visual only 0.0149 /
+// 0.0067 / 0.0097 m; with the right associations 0.0106 / 0.0066 / 0.0066 m).
+TEST(SolveWindowBa, NearMissWrongPlaneIsBoundedByThePointSigma) {
+  for (const unsigned seed : {9u, 12u, 13u}) {
+    test::WindowScene s = test::MakeWindowScene({.seed = seed});
+    s.problem.planes.push_back({3, Plane(Eigen::Vector3d(1, 0, 0), 6.0 - 0.3)});  // x = -5.7
+    int near_miss = 0;
+    for (WindowPoint& p : s.problem.points) {
+      if (p.plane_id == 1 && p.id % 4 == 0) {
+        p.plane_id = 3;
+        ++near_miss;
+      }
+    }
+    ASSERT_GT(near_miss, 20);
+    WindowBaOptions options;
+    options.lambda = 0.5;
+    const WindowBaResult global = SolveWindowBa(s.camera, s.problem, options);
+    for (WindowPoint& p : s.problem.points) {
+      if (p.plane_id) p.plane_sigma = StereoSigmaAlong(s, p.id, Eigen::Vector3d(1, 0, 0));
+    }
+    const WindowBaResult per_point = SolveWindowBa(s.camera, s.problem, options);
+    ASSERT_TRUE(global.usable && per_point.usable);
+    const double e_global = MeanPoseError(s, global.cam_from_world);
+    const double e_point = MeanPoseError(s, per_point.cam_from_world);
+    EXPECT_LT(e_point, e_global) << "seed " << seed;  // measured ratios 0.36 / 0.58 / 0.66
+    EXPECT_LT(e_point, 0.035) << "seed " << seed;     // 1.9x the worst measured (0.0186 m)
+  }
+}
+
+// With every keyframe free the gauge (a rigid motion of the whole window) is unobserved, but
+// Levenberg-Marquardt's damping keeps the system solvable: the gauge-free geometry (keyframe k
+// relative to keyframe 0) is recovered as well as with keyframe 0 fixed, and the window does
+// not wander off. Measured on seeds 6 / 14 / 15 (2026-12-02): relative error 0.190 / 0.141 /
+// 0.194 m before, 0.0095 / 0.0111 / 0.0056 m after (same as with keyframe 0 fixed to 1e-5 m);
+// keyframe 0 moved by 0.026 / 0.070 / 0.020 m.
 TEST(SolveWindowBa, AllKeyframesFreeIsStillUsable) {
   test::WindowScene s = test::MakeWindowScene({.seed = 6});
+  std::map<int, Rigid3d> initial;
+  for (const WindowKeyframe& kf : s.problem.keyframes) initial[kf.id] = kf.cam_from_world;
+  const WindowBaResult anchored = SolveWindowBa(s.camera, s.problem, {});
+  std::map<int, Rigid3d> anchored_all = anchored.cam_from_world;
+  anchored_all[0] = initial.at(0);
   for (WindowKeyframe& kf : s.problem.keyframes) kf.fixed = false;
   const WindowBaResult r = SolveWindowBa(s.camera, s.problem, {});
-  // The gauge is unobserved, but Levenberg-Marquardt's damping keeps the system solvable.
   ASSERT_TRUE(r.usable);
-  EXPECT_EQ(r.cam_from_world.size(), s.problem.keyframes.size());
-  EXPECT_LT(r.final_cost, r.initial_cost);
+  ASSERT_EQ(r.cam_from_world.size(), s.problem.keyframes.size());
+  const double before = MeanRelativePoseError(s, initial);
+  const double after = MeanRelativePoseError(s, r.cam_from_world);
+  EXPECT_GT(before, 0.1);
+  EXPECT_LT(after, 0.02);  // 0.0095 measured
+  EXPECT_NEAR(after, MeanRelativePoseError(s, anchored_all), 1e-3);
+  EXPECT_LT((r.cam_from_world.at(0).translation - initial.at(0).translation).norm(), 0.15);
 }
 
 TEST(SolveWindowBa, SparseAndDenseSchurAgree) {

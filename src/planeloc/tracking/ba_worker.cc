@@ -24,10 +24,15 @@ BaWorker::~BaWorker() {
   wake_.notify_all();
 }
 
+bool BaWorker::Idle() {
+  std::lock_guard lock(mutex_);
+  return !pending_ && !running_ && !finished_;
+}
+
 bool BaWorker::Submit(BaJob job) {
   {
     std::lock_guard lock(mutex_);
-    if (pending_ || running_) return false;
+    if (pending_ || running_ || finished_) return false;
     pending_ = std::move(job);
   }
   wake_.notify_all();
@@ -62,7 +67,7 @@ void BaWorker::Run(std::stop_token stop) {
     SolveBaJob(camera_, options_, job);
     {
       std::lock_guard lock(mutex_);
-      finished_ = std::move(job);  // an unapplied older result is superseded
+      finished_ = std::move(job);  // empty before: Submit refuses while a result waits
       running_ = false;
     }
     done_.notify_all();

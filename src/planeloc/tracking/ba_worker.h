@@ -1,7 +1,9 @@
 // Runs local bundle adjustments on one owned worker thread. The tracker hands over a copy of the
 // window (a WindowProblem, plain numbers keyed by id) and later takes the result back and applies
 // it by id; the map itself is never shared, so there is no map mutex. One job at a time: while
-// a job runs, new submissions are refused (the next keyframe's window covers the same area).
+// a job is queued, runs, or its result waits to be taken, new submissions are refused, so that
+// the next window is always built from a map that holds the previous result (the tracker defers
+// the keyframe's BA until then, see tracker.h).
 #pragma once
 
 #include <condition_variable>
@@ -12,12 +14,18 @@
 
 #include "planeloc/geometry/camera.h"
 #include "planeloc/optim/window_ba.h"
+#include "planeloc/tracking/local_mapping.h"
 
 namespace planeloc {
 
 struct BaJob {
   int keyframe_id = 0;  // keyframe whose insertion triggered the BA
   WindowProblem problem;
+  // Version stamps of the window when it was built, and the tracker's map-frame correction count
+  // then: a result solved before a correction is dropped, and one that finds a keyframe or
+  // point moved since the snapshot leaves it as it is.
+  WindowSnapshot snapshot;
+  int correction_epoch = 0;
   WindowBaResult result;
   double milliseconds = 0;  // solve time
 };
@@ -32,7 +40,9 @@ class BaWorker {
   BaWorker(const BaWorker&) = delete;
   BaWorker& operator=(const BaWorker&) = delete;
 
-  // Queues a job; false (job dropped) if one is pending or running.
+  // True when no job is pending or running and no result waits to be taken.
+  bool Idle();
+  // Queues a job; false (job refused) unless Idle().
   bool Submit(BaJob job);
   // The finished job, if any (non-blocking).
   std::optional<BaJob> TakeResult();

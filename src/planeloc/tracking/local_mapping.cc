@@ -216,17 +216,53 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
   return problem;
 }
 
+WindowSnapshot SnapshotWindow(const SparseMap& map, const WindowProblem& problem) {
+  WindowSnapshot snapshot;
+  for (const WindowKeyframe& kf : problem.keyframes) {
+    snapshot.keyframe_versions.push_back(map.HasKeyframe(kf.id) ? map.keyframe(kf.id).version : 0);
+  }
+  for (const WindowPoint& p : problem.points) {
+    snapshot.point_versions.push_back(map.HasPoint(p.id) ? map.point(p.id).version : 0);
+  }
+  return snapshot;
+}
+
 BaApplyStats ApplyWindowBa(SparseMap& map, const WindowProblem& problem,
-                           const WindowBaResult& result, const StereoCamera& camera) {
+                           const WindowBaResult& result, const StereoCamera& camera,
+                           const WindowSnapshot* snapshot) {
   BaApplyStats stats;
   if (!result.usable) return stats;
+  // Ids moved since the snapshot: their newer value stays.
+  std::set<int> stale_keyframes, stale_points;
+  if (snapshot) {
+    for (std::size_t i = 0; i < problem.keyframes.size(); ++i) {
+      const int id = problem.keyframes[i].id;
+      if (map.HasKeyframe(id) && map.keyframe(id).version != snapshot->keyframe_versions.at(i)) {
+        stale_keyframes.insert(id);
+      }
+    }
+    for (std::size_t i = 0; i < problem.points.size(); ++i) {
+      const int id = problem.points[i].id;
+      if (map.HasPoint(id) && map.point(id).version != snapshot->point_versions.at(i)) {
+        stale_points.insert(id);
+      }
+    }
+  }
   for (const auto& [kf_id, pose] : result.cam_from_world) {
     if (!map.HasKeyframe(kf_id)) continue;
+    if (stale_keyframes.count(kf_id)) {
+      ++stats.stale_keyframes;
+      continue;
+    }
     map.SetKeyframePose(kf_id, pose);
     ++stats.keyframes;
   }
   for (const auto& [id, position] : result.point_in_world) {
     if (!map.HasPoint(id)) continue;
+    if (stale_points.count(id)) {
+      ++stats.stale_points;
+      continue;
+    }
     map.SetPointPosition(id, position);
     ++stats.points;
   }
@@ -236,6 +272,7 @@ BaApplyStats ApplyWindowBa(SparseMap& map, const WindowProblem& problem,
     if (!map.HasPoint(obs.point_id) || !map.HasKeyframe(obs.keyframe_id)) continue;
     const MapPoint& point = map.point(obs.point_id);
     if (!point.observations.count(obs.keyframe_id)) continue;
+    if (stale_points.count(obs.point_id) || stale_keyframes.count(obs.keyframe_id)) continue;
     if (i < result.observation_inlier.size() && !result.observation_inlier[i]) {
       map.EraseObservation(obs.point_id, obs.keyframe_id);
       ++stats.removed_observations;
@@ -252,7 +289,7 @@ BaApplyStats ApplyWindowBa(SparseMap& map, const WindowProblem& problem,
     errors.push_back(std::sqrt(e2));
   }
   for (const auto& [id, position] : result.point_in_world) {
-    if (map.HasPoint(id)) map.UpdatePointGeometry(id);
+    if (map.HasPoint(id) && !stale_points.count(id)) map.UpdatePointGeometry(id);
   }
   if (!errors.empty()) {
     auto mid = errors.begin() + static_cast<std::ptrdiff_t>(errors.size() / 2);

@@ -3,6 +3,7 @@
 // window (built here, solved by optim/window_ba, applied back by id).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -52,16 +53,30 @@ std::optional<PointEstimate> VisualPointEstimate(const SparseMap& map, const Map
 // and the keyframe options.ba_window_keyframes keyframes before it (or the oldest one).
 bool IsTurning(const SparseMap& map, int keyframe_id, const TrackerOptions& options);
 
+// The version stamps (Keyframe::version, MapPoint::version) of a window's keyframes and points
+// when the window was built, aligned with problem.keyframes and problem.points.
+struct WindowSnapshot {
+  std::vector<std::uint64_t> keyframe_versions;
+  std::vector<std::uint64_t> point_versions;
+};
+WindowSnapshot SnapshotWindow(const SparseMap& map, const WindowProblem& problem);
+
 struct BaApplyStats {
   int keyframes = 0;                  // poses updated
   int points = 0;                     // positions updated
+  int stale_keyframes = 0;            // left as they are: moved since the snapshot
+  int stale_points = 0;               // left as they are: moved since the snapshot
   int removed_observations = 0;       // outliers unlinked
   double median_reprojection_px = 0;  // inliers of points seen twice or more
 };
 
 // Writes the solution back by id (ids that no longer exist are skipped) and unlinks outlier
-// observations. Does nothing when the solution is not usable.
+// observations. Does nothing when the solution is not usable. With a `snapshot` (a result that
+// comes back later than the window was built, from the BA worker), a keyframe or point that was
+// moved since the snapshot keeps its newer value, and the outlier flags of its observations
+// (computed against the older one) are not used: a late result never undoes a newer change.
 BaApplyStats ApplyWindowBa(SparseMap& map, const WindowProblem& problem,
-                           const WindowBaResult& result, const StereoCamera& camera);
+                           const WindowBaResult& result, const StereoCamera& camera,
+                           const WindowSnapshot* snapshot = nullptr);
 
 }  // namespace planeloc

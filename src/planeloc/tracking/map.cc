@@ -167,11 +167,15 @@ int SparseMap::NumTrackedPoints(int keyframe_id, int min_observations) const {
 }
 
 void SparseMap::SetKeyframePose(int id, const Rigid3d& cam_from_world) {
-  keyframes_.at(id).cam_from_world = cam_from_world;
+  Keyframe& keyframe = keyframes_.at(id);
+  keyframe.cam_from_world = cam_from_world;
+  keyframe.version = next_version_++;
 }
 
 void SparseMap::SetPointPosition(int id, const Eigen::Vector3d& point_in_world) {
-  points_.at(id).point_in_world = point_in_world;
+  MapPoint& point = points_.at(id);
+  point.point_in_world = point_in_world;
+  point.version = next_version_++;
 }
 
 }  // namespace planeloc

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <map>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -26,6 +27,9 @@ struct MapPoint {
   int reference_keyframe_id = 0;
   int visible = 1;  // frames in whose view the point projected
   int found = 1;    // frames that matched it
+  // Stamp of the last change of point_in_world (SparseMap::SetPointPosition): a BA result solved
+  // from an older stamp must not overwrite the point (see local_mapping.h, ApplyWindowBa).
+  std::uint64_t version = 0;
   double FoundRatio() const { return static_cast<double>(found) / visible; }
 };
 
@@ -38,6 +42,7 @@ struct Keyframe {
   FeatureGrid grid;
   std::vector<int> map_point_ids;   // per left keypoint: map point id or -1
   std::map<int, int> covisibility;  // other keyframe id -> shared points (> 0)
+  std::uint64_t version = 0;        // stamp of the last change of cam_from_world (see MapPoint)
   Eigen::Vector3d CameraCenter() const { return cam_from_world.Inverse().translation; }
 };
 
@@ -79,6 +84,7 @@ class SparseMap {
   const MapPoint& point(int id) const { return points_.at(id); }
   MapPoint& mutable_point(int id) { return points_.at(id); }
   const Keyframe& keyframe(int id) const { return keyframes_.at(id); }
+  // Move a keyframe or a point; each call gives it a new version stamp (unique in the map).
   void SetKeyframePose(int id, const Rigid3d& cam_from_world);
   void SetPointPosition(int id, const Eigen::Vector3d& point_in_world);
 
@@ -96,6 +102,7 @@ class SparseMap {
   std::map<int, MapPoint> points_;
   int next_keyframe_id_ = 0;
   int next_point_id_ = 0;
+  std::uint64_t next_version_ = 1;  // 0: as created
 };
 
 }  // namespace planeloc

@@ -201,6 +201,86 @@ TEST(LocalMappingTest, WindowFixesAnchorsAndGauge) {
             -1);
 }
 
+// Issue 10 item 6: a BA result that comes back after a keyframe or point was moved (by a map-lock
+// correction or another result) leaves the moved ones as they are, and applies to the others.
+TEST(LocalMappingTest, LateResultNeverUndoesANewerChange) {
+  std::mt19937 rng(12);
+  const StereoCamera camera = TestCamera();
+  const std::vector<Eigen::Vector3d> points = RandomPoints(40, rng);
+  const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(40, rng), camera), camera);
+  SparseMap map;
+  TrackerOptions options;
+  std::vector<int> kfs;
+  for (int k = 0; k < 3; ++k) kfs.push_back(map.AddKeyframe(frame));
+  const std::vector<int> created = CreateStereoPoints(map, kfs[0], camera, options);
+  for (int k = 1; k < 3; ++k) {
+    for (int id : created) map.AddObservation(id, kfs[k], map.point(id).observations.at(kfs[0]));
+  }
+  for (int k : kfs) map.UpdateConnections(k);
+  const WindowProblem problem = BuildLocalWindow(map, kfs[2], options, camera);
+  const WindowSnapshot snapshot = SnapshotWindow(map, problem);
+  ASSERT_EQ(snapshot.point_versions.size(), problem.points.size());
+
+  // The solver's answer: every free keyframe and every point 0.2 m along x.
+  const Eigen::Vector3d shift(0.2, 0, 0);
+  WindowBaResult result;
+  result.usable = true;
+  for (const WindowKeyframe& kf : problem.keyframes) {
+    if (!kf.fixed)
+      result.cam_from_world[kf.id] =
+          kf.cam_from_world * Rigid3d(Eigen::Quaterniond::Identity(), -shift);
+  }
+  for (const WindowPoint& p : problem.points)
+    result.point_in_world[p.id] = p.point_in_world + shift;
+  result.observation_inlier.assign(problem.observations.size(), true);
+  ASSERT_EQ(result.cam_from_world.count(kfs[1]) + result.cam_from_world.count(kfs[2]), 2u);
+  // Two observations flagged as outliers: one of the point that will move, one of another.
+  const int moved_point = problem.points[0].id, kept_point = problem.points[1].id;
+  std::size_t moved_obs = 0, kept_obs = 0;
+  while (problem.observations[moved_obs].point_id != moved_point) ++moved_obs;
+  while (problem.observations[kept_obs].point_id != kept_point) ++kept_obs;
+  result.observation_inlier[moved_obs] = false;
+  result.observation_inlier[kept_obs] = false;
+
+  // While the BA ran: keyframe 2 and one point were moved (say by a map-lock correction).
+  SparseMap late = map;
+  const Rigid3d newer_pose(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, -1));
+  const Eigen::Vector3d newer_point(1, 2, 30);
+  late.SetKeyframePose(kfs[2], newer_pose);
+  late.SetPointPosition(moved_point, newer_point);
+  const BaApplyStats stats = ApplyWindowBa(late, problem, result, camera, &snapshot);
+  EXPECT_EQ(stats.stale_keyframes, 1);
+  EXPECT_EQ(stats.stale_points, 1);
+  EXPECT_EQ(stats.keyframes, 1);
+  EXPECT_EQ(stats.points, static_cast<int>(problem.points.size()) - 1);
+  EXPECT_EQ(late.keyframe(kfs[2]).cam_from_world.translation, newer_pose.translation);
+  EXPECT_EQ(late.point(moved_point).point_in_world, newer_point);
+  EXPECT_LT((late.keyframe(kfs[1]).cam_from_world.translation -
+             result.cam_from_world.at(kfs[1]).translation)
+                .norm(),
+            1e-12);
+  EXPECT_LT((late.point(kept_point).point_in_world - result.point_in_world.at(kept_point)).norm(),
+            1e-12);
+  // The outlier flag of the moved point was computed against its old position: not used.
+  EXPECT_TRUE(
+      late.point(moved_point).observations.count(problem.observations[moved_obs].keyframe_id));
+  EXPECT_FALSE(
+      late.point(kept_point).observations.count(problem.observations[kept_obs].keyframe_id));
+
+  // Without the snapshot (the old behaviour) the result overwrites the newer values.
+  SparseMap overwritten = map;
+  overwritten.SetPointPosition(moved_point, newer_point);
+  ApplyWindowBa(overwritten, problem, result, camera);
+  EXPECT_LT((overwritten.point(moved_point).point_in_world - result.point_in_world.at(moved_point))
+                .norm(),
+            1e-12);
+  // Applied results are themselves new versions: the same late result applied twice changes
+  // nothing the second time.
+  const BaApplyStats again = ApplyWindowBa(late, problem, result, camera, &snapshot);
+  EXPECT_EQ(again.points, 0);
+  EXPECT_EQ(again.keyframes, 0);
+}
+
 TEST(LocalMappingTest, CullsPointsNotSeenAgain) {
   std::mt19937 rng(13);
   const StereoCamera camera = TestCamera();

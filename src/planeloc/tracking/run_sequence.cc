@@ -237,6 +237,7 @@ RunSummary RunSequence(const RunOptions& run) {
   writer.Close();
   if (stats_out) stats_out->Commit();
   if (progress) progress->Finish();
+  summary.ba = tracker.ba_counts();
   summary.lock_events = tracker.lock_events();
   if (plane_map) summary.final_map_lock = MapLockName(tracker.map_lock());
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -280,7 +281,24 @@ RunSummary RunSequence(const RunOptions& run) {
     std::sort(ba_medians.begin(), ba_medians.end());
     summary.median_ba_reprojection_px = ba_medians[ba_medians.size() / 2];
   }
+  if (run.summary_path) {
+    std::ofstream out(*run.summary_path);
+    out << summary.ToJson() << '\n';
+    CheckInput(out.good(), run.summary_path->string(), 0, "cannot write the run summary",
+               "check that the folder exists and is writable");
+  }
   return summary;
+}
+
+std::string RunSummary::ToJson() const {
+  return fmt::format(
+      "{{\"frames\":{},\"tracked\":{},\"lost\":{},\"skipped\":{},\"keyframes\":{},"
+      "\"mean_tracked_points\":{:.1f},\"median_ba_reprojection_px\":{:.4f},\"planes\":{},"
+      "\"mean_ba_plane_residuals\":{:.1f},\"planes_disabled\":{},\"seconds\":{:.3f},"
+      "\"final_map_lock\":\"{}\",\"lock_events\":{},\"local_ba\":{}}}",
+      frames, tracked, lost, skipped, keyframes, mean_tracked_points, median_ba_reprojection_px,
+      planes, mean_ba_plane_residuals, planes_disabled, seconds, final_map_lock, lock_events.size(),
+      ba.ToJson());
 }
 
 }  // namespace planeloc

@@ -23,6 +23,9 @@ struct RunOptions {
   std::filesystem::path trajectory_path;  // required
   TrajectoryFormat format = TrajectoryFormat::kKitti;
   std::optional<std::filesystem::path> stats_path;  // JSON lines, one per frame
+  // One JSON object with the end-of-run summary (RunSummary::ToJson); `planeloc run --stats X`
+  // writes it to X.summary.json.
+  std::optional<std::filesystem::path> summary_path;
   // ORB-SLAM2 / ORB-SLAM3 settings file and/or planeloc keys (OpenCV FileStorage YAML).
   std::optional<std::filesystem::path> settings_path;
   // Track with the settings file's intrinsics and baseline instead of the sequence's calibration
@@ -53,6 +56,7 @@ struct RunSummary {
   double mean_ba_plane_residuals = 0;    // point-to-plane residuals a local BA, on average
   int planes_disabled = 0;               // planes disabled during the run (biased, see tracking)
   double seconds = 0;                    // wall time of the tracking loop
+  BaCounts ba;                           // what became of every keyframe's local BA
   std::vector<FrameStats> stats;         // per frame
   std::vector<Rigid3d> world_from_cam;   // per frame, as written
   std::vector<LockEvent> lock_events;    // map-frame corrections, in order
@@ -66,6 +70,8 @@ struct RunSummary {
   double mean_visible_creases = 0, mean_confirmed_creases = 0;
   std::optional<double> median_edge_px;
   int gate_rejected = 0;
+  // The counts above (not the per-frame vectors) as one JSON object.
+  std::string ToJson() const;
 };
 
 // Throws InputError for unreadable input (sequence, settings, output folder).

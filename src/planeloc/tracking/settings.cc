@@ -73,6 +73,7 @@ const std::vector<Key>& Keys() {
       I("Tracking.maxLocalKeyframes", [](O& o) -> int& { return o.max_local_keyframes; }),
       D("Tracking.localSearchRadius", [](O& o) -> double& { return o.local_search_radius; }),
       D("Tracking.keyframeTrackedRatio", [](O& o) -> double& { return o.keyframe_tracked_ratio; }),
+      I("Tracking.keyframeMinFrames", [](O& o) -> int& { return o.keyframe_min_frames; }),
       I("Tracking.keyframeMinCloseTracked",
         [](O& o) -> int& { return o.keyframe_min_close_tracked; }),
       I("Tracking.keyframeMinCloseUntracked",
@@ -270,6 +271,7 @@ void TrackerOptions::Check() const {
   Require(local_search_radius > 0, "local_search_radius must be > 0");
   Require(keyframe_tracked_ratio > 0 && keyframe_tracked_ratio <= 1,
           "keyframe_tracked_ratio must be in (0, 1]");
+  Require(keyframe_min_frames >= 0, "keyframe_min_frames must be >= 0");
   Require(keyframe_min_close_tracked >= 0, "keyframe_min_close_tracked must be >= 0");
   Require(keyframe_min_close_untracked >= 0, "keyframe_min_close_untracked must be >= 0");
   Require(min_new_stereo_points >= 0, "min_new_stereo_points must be >= 0");

@@ -38,7 +38,9 @@ struct TrackerOptions {
   // Stereo points closer than close_depth_baselines * baseline are "close" (ORB-SLAM2 ThDepth):
   // reliable depth, used to create map points and to decide keyframes.
   double close_depth_baselines = 40.0;
-  // Frame rate of the sequence (Hz); a keyframe is forced after `fps` frames without one.
+  // Frame rate of the sequence (Hz): after `fps` frames without a keyframe, a frame that meets
+  // the tracked-ratio condition becomes one even while the local BA is busy (ORB-SLAM2 mMaxFrames;
+  // see keyframe_rule.h).
   double fps = 10.0;
 
   // Frame-to-frame search radius at level 0 (pixels), scaled by the pyramid scale of the level;
@@ -53,8 +55,9 @@ struct TrackerOptions {
   // Multiplier of the local-map search radius (ORB-SLAM2 th: 1 for stereo).
   double local_search_radius = 1.0;
 
-  // Keyframe decision (ORB-SLAM2 stereo rules).
+  // Keyframe decision (ORB-SLAM2 stereo rules, keyframe_rule.h).
   double keyframe_tracked_ratio = 0.75;   // tracked points vs the reference keyframe's
+  int keyframe_min_frames = 0;            // frames after a keyframe before an idle mapper takes one
   int keyframe_min_close_tracked = 100;   // fewer tracked close points than this ...
   int keyframe_min_close_untracked = 70;  // ... while this many close points are unmatched
 

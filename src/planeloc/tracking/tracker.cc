@@ -11,6 +11,7 @@
 #include "planeloc/geometry/lie.h"
 #include "planeloc/optim/pose_optimizer.h"
 #include "planeloc/tracking/ba_worker.h"
+#include "planeloc/tracking/keyframe_rule.h"
 #include "planeloc/tracking/local_mapping.h"
 #include "planeloc/tracking/matcher.h"
 #include "planeloc/tracking/triangulation.h"
@@ -62,11 +63,19 @@ std::string FrameStats::ToJson() const {
     json += fmt::format(",\"ba_window_keyframes\":{}", *ba_window_keyframes);
   }
   if (ba_discarded) json += ",\"ba_discarded\":true";
+  if (ba_keyframe) json += fmt::format(",\"ba_keyframe\":{}", *ba_keyframe);
   if (!map_lock.empty()) json += fmt::format(",\"map_lock\":\"{}\"", map_lock);
   if (registration) json += ",\"registration\":" + *registration;
   if (planes_disabled) json += fmt::format(",\"planes_disabled\":{}", *planes_disabled);
   if (crease_check) json += ",\"crease_check\":" + crease_check->ToJson();
   return json + "}";
+}
+
+std::string BaCounts::ToJson() const {
+  return fmt::format(
+      "{{\"keyframes\":{},\"applied\":{},\"superseded\":{},\"discarded\":{},\"unusable\":{},"
+      "\"empty\":{},\"stale_keyframes\":{},\"stale_points\":{}}}",
+      keyframes, applied, superseded, discarded, unusable, empty, stale_keyframes, stale_points);
 }
 
 Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
@@ -143,6 +152,7 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   const auto track_start = Clock::now();
   ApplyBaResults(stats, /*wait=*/false);
   ApplyLockResults(stats, nullptr, /*wait=*/false);
+  SubmitDeferredBa(stats);
   if (planes_) stats.map_lock = MapLockName(map_lock());
   const Rigid3d predicted = PredictPose();
   bool tracked = false;
@@ -381,15 +391,21 @@ bool Tracker::NeedKeyframe(const Frame& frame, int inliers) const {
   }
   const bool need_close = tracked_close < options_.keyframe_min_close_tracked &&
                           untracked_close > options_.keyframe_min_close_untracked;
-  const int since_last = frame.id - last_keyframe_frame_id_;
-  const bool timeout = since_last >= static_cast<int>(std::lround(options_.fps));
-  const bool weak = inliers < 0.25 * reference_matches || need_close;
-  // ORB-SLAM2 also inserts when local mapping is idle; mapping is synchronous here.
-  const bool mapping_idle = true;
-  const bool c1 = timeout || mapping_idle || weak;
-  const bool c2 =
-      (inliers < options_.keyframe_tracked_ratio * reference_matches || need_close) && inliers > 15;
-  return c1 && c2;
+  KeyframeRuleInput input;
+  input.frames_since_keyframe = frame.id - last_keyframe_frame_id_;
+  input.mapping_idle = MappingIdle();
+  input.inliers = inliers;
+  input.reference_matches = reference_matches;
+  input.need_close = need_close;
+  KeyframeRuleOptions rule;
+  rule.min_frames = options_.keyframe_min_frames;
+  rule.max_frames = static_cast<int>(std::lround(options_.fps));
+  rule.tracked_ratio = options_.keyframe_tracked_ratio;
+  return DecideKeyframe(input, rule).insert;
+}
+
+bool Tracker::MappingIdle() const {
+  return !ba_worker_ || (!deferred_ba_keyframe_ && ba_worker_->Idle());
 }
 
 void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
@@ -422,55 +438,103 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   stats.ms_local_map += MillisecondsSince(start);
 
   const auto ba_start = Clock::now();
-  BaJob job;
-  job.keyframe_id = kf_id;
   if (planes_ && settle_until_keyframe_id_ >= 0 && kf_id >= settle_until_keyframe_id_) {
     planes_->SetTrajectoryCovariance(Eigen::Matrix3d::Zero());
     settle_until_keyframe_id_ = -1;
   }
-  // Before the map lock the planes' frame is unknown: visual BA only.
-  const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
-  if (planes_active) {
+  // The crease check needs this keyframe's image: now, even if its BA waits for the worker.
+  if (planes_ && (!locker_ || locker_->PlanesActive())) {
     stats.crease_check =
         planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
   }
-  job.problem =
-      BuildLocalWindow(map_, kf_id, options_, camera_, planes_active ? planes_.get() : nullptr);
-  if (planes_) stats.planes_disabled = planes_->num_disabled();
-  if (stats.crease_check) planes_->FillGateStats(*stats.crease_check);
-  if (job.problem.observations.empty()) {
-    // Nothing to adjust (a keyframe without points).
-  } else if (ba_worker_) {
-    if (ba_worker_->Submit(std::move(job))) ba_job_epoch_[kf_id] = correction_epoch_;
-  } else {
-    SolveBaJob(camera_, options_.ba, job);
-    const BaApplyStats applied = ApplyWindowBa(map_, job.problem, job.result, camera_);
-    if (job.result.usable) RecordBaStats(job, applied, stats);
+  ++ba_counts_.keyframes;
+  if (ba_worker_) {
+    if (MappingIdle()) {
+      SubmitBa(kf_id, stats);
+    } else {
+      // The worker is busy: this keyframe's window is built once the running BA has been applied.
+      // A keyframe still waiting is superseded (its neighbourhood is in the new window).
+      if (deferred_ba_keyframe_) ++ba_counts_.superseded;
+      deferred_ba_keyframe_ = kf_id;
+    }
+  } else if (std::optional<BaJob> job = MakeBaJob(kf_id, stats)) {
+    SolveBaJob(camera_, options_.ba, *job);
+    const BaApplyStats applied = ApplyWindowBa(map_, job->problem, job->result, camera_);
+    if (job->result.usable) {
+      RecordBaStats(*job, applied, stats);
+      stats.ba_keyframe = kf_id;
+      ++ba_counts_.applied;
+    } else {
+      ++ba_counts_.unusable;
+    }
     frame.cam_from_world = map_.keyframe(kf_id).cam_from_world;
     frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
   }
-  stats.ms_ba = MillisecondsSince(ba_start);
+  stats.ms_ba += MillisecondsSince(ba_start);
   if (locker_) {
     locker_->OnKeyframe(map_, kf_id, camera_);
     ApplyLockResults(stats, &frame, /*wait=*/false);
   }
 }
 
+std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats) {
+  BaJob job;
+  job.keyframe_id = keyframe_id;
+  // Before the map lock the planes' frame is unknown: visual BA only.
+  const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
+  job.problem = BuildLocalWindow(map_, keyframe_id, options_, camera_,
+                                 planes_active ? planes_.get() : nullptr);
+  if (planes_) stats.planes_disabled = planes_->num_disabled();
+  if (planes_ && stats.crease_check) planes_->FillGateStats(*stats.crease_check);
+  if (job.problem.observations.empty()) {
+    ++ba_counts_.empty;  // a keyframe without points
+    return std::nullopt;
+  }
+  job.snapshot = SnapshotWindow(map_, job.problem);
+  job.correction_epoch = correction_epoch_;
+  return job;
+}
+
+void Tracker::SubmitBa(int keyframe_id, FrameStats& stats) {
+  std::optional<BaJob> job = MakeBaJob(keyframe_id, stats);
+  // MappingIdle() held: the worker accepts the job.
+  if (job && !ba_worker_->Submit(std::move(*job))) ++ba_counts_.superseded;
+}
+
+void Tracker::SubmitDeferredBa(FrameStats& stats) {
+  if (!ba_worker_ || !deferred_ba_keyframe_ || !ba_worker_->Idle()) return;
+  const int keyframe_id = *deferred_ba_keyframe_;
+  deferred_ba_keyframe_.reset();
+  if (!map_.HasKeyframe(keyframe_id)) {
+    ++ba_counts_.empty;
+    return;
+  }
+  const auto start = Clock::now();
+  SubmitBa(keyframe_id, stats);
+  stats.ms_ba += MillisecondsSince(start);
+}
+
 void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
   if (!ba_worker_) return;
   std::optional<BaJob> job = wait ? ba_worker_->WaitResult() : ba_worker_->TakeResult();
   if (!job) return;
-  const auto epoch = ba_job_epoch_.find(job->keyframe_id);
-  const bool stale = epoch != ba_job_epoch_.end() && epoch->second != correction_epoch_;
-  ba_job_epoch_.erase(ba_job_epoch_.begin(), ba_job_epoch_.upper_bound(job->keyframe_id));
-  if (stale) {
+  if (job->correction_epoch != correction_epoch_) {
     // Solved in the frame before a map-lock correction: applying it would undo the correction.
     stats.ba_discarded = true;
+    ++ba_counts_.discarded;
     return;
   }
-  if (!job->result.usable) return;
-  const BaApplyStats applied = ApplyWindowBa(map_, job->problem, job->result, camera_);
+  if (!job->result.usable) {
+    ++ba_counts_.unusable;
+    return;
+  }
+  const BaApplyStats applied =
+      ApplyWindowBa(map_, job->problem, job->result, camera_, &job->snapshot);
   RecordBaStats(*job, applied, stats);
+  stats.ba_keyframe = job->keyframe_id;
+  ++ba_counts_.applied;
+  ba_counts_.stale_keyframes += applied.stale_keyframes;
+  ba_counts_.stale_points += applied.stale_points;
   if (last_frame_ && map_.HasKeyframe(reference_keyframe_id_)) {
     last_frame_->cam_from_world =
         last_from_reference_ * map_.keyframe(reference_keyframe_id_).cam_from_world;
@@ -521,6 +585,9 @@ void Tracker::Finish() {
   FrameStats ignored;
   ApplyBaResults(ignored, /*wait=*/true);
   ApplyLockResults(ignored, nullptr, /*wait=*/true);
+  // The last keyframe's deferred BA: solved and applied, so that every keyframe is accounted for.
+  SubmitDeferredBa(ignored);
+  ApplyBaResults(ignored, /*wait=*/true);
 }
 
 }  // namespace planeloc

@@ -7,7 +7,10 @@
 // On loss the tracker re-initializes from the frame's stereo at the predicted pose and goes on.
 //
 // Threads: feature extraction uses TBB inside features/; the local BA runs on a BaWorker
-// thread, or in line when options.deterministic (bit-identical runs).
+// thread, or in line when options.deterministic (bit-identical runs). With the worker, a
+// keyframe inserted while a BA runs gets its BA when the running one has been applied (only the
+// newest such keyframe: an older one is counted as superseded), and a result applies only to the
+// keyframes and points that were not moved since its window was built (BaCounts).
 #pragma once
 
 #include <map>
@@ -29,6 +32,7 @@
 namespace planeloc {
 
 class BaWorker;
+struct BaJob;
 
 enum class TrackingState {
   kTracking,     // tracked against the map
@@ -55,6 +59,8 @@ struct FrameStats {
   std::optional<int> ba_window_keyframes;
   // A BA result dropped because the map moved to the map frame while it ran.
   bool ba_discarded = false;
+  // Keyframe whose local BA result was applied during this frame.
+  std::optional<int> ba_keyframe;
   // With a plane map: the map lock after this frame (searching | partial | locked), and the
   // registration attempt that finished during this frame, as JSON.
   std::string map_lock;
@@ -74,6 +80,22 @@ struct LockEvent {
   Rigid3d map_from_world;  // applied to the keyframes and points of the segment
   int first_keyframe_id = 0;
   bool recorrection = false;  // a re-registration while locked, not the lock itself
+};
+
+// What became of the local BA of every keyframe (end-of-run stats). After Tracker::Finish,
+// keyframes = applied + superseded + discarded + unusable + empty.
+struct BaCounts {
+  int keyframes = 0;   // keyframes inserted: each asks for a local BA
+  int applied = 0;     // solved and written back
+  int superseded = 0;  // not solved: a newer keyframe's BA was requested while the worker was busy
+  int discarded = 0;   // solved, then dropped: the map moved to the map frame meanwhile
+  int unusable = 0;    // the solver failed; the map kept as it was
+  int empty = 0;       // nothing to adjust (a window without observations)
+  // Of the applied results: keyframes and points left as they were because they had been moved
+  // since the window was built (a late result never undoes a newer change).
+  int stale_keyframes = 0;
+  int stale_points = 0;
+  std::string ToJson() const;
 };
 
 struct TrackResult {
@@ -111,6 +133,7 @@ class Tracker {
   // kLocked without a plane map.
   MapLock map_lock() const { return locker_ ? locker_->state() : MapLock::kLocked; }
   const OrbExtractor& extractor() const { return extractor_; }
+  const BaCounts& ba_counts() const { return ba_counts_; }
   const TrackerOptions& options() const { return options_; }
 
  private:
@@ -121,8 +144,18 @@ class Tracker {
   int OptimizeFramePose(Frame& frame);
   std::vector<int> LocalPointIds(const Frame& frame);
   bool NeedKeyframe(const Frame& frame, int inliers) const;
+  // Local mapping idle (ORB-SLAM2's AcceptKeyFrames): no BA running, queued, waiting to be
+  // applied or deferred. Always true in deterministic mode.
+  bool MappingIdle() const;
   // Inserts the keyframe and runs the mapping steps; fills ms_ba / reprojection stats.
   void InsertKeyframe(Frame& frame, FrameStats& stats);
+  // The keyframe's BA window with its snapshot; std::nullopt (counted as empty) without
+  // observations.
+  std::optional<BaJob> MakeBaJob(int keyframe_id, FrameStats& stats);
+  // Builds the keyframe's BA window and hands it to the worker (threaded mode).
+  void SubmitBa(int keyframe_id, FrameStats& stats);
+  // Submits the deferred keyframe's BA once the worker is idle.
+  void SubmitDeferredBa(FrameStats& stats);
   void ApplyBaResults(FrameStats& stats, bool wait);
   // Applies a finished registration: its correction moves the segment (and `current`) into the
   // map frame.
@@ -143,7 +176,9 @@ class Tracker {
   int correction_epoch_ = 0;
   // Keyframe id from which plane bias statistics stop allowing for the last lock's error; -1: none.
   int settle_until_keyframe_id_ = -1;
-  std::map<int, int> ba_job_epoch_;  // keyframe id of a submitted BA -> epoch at submission
+  // Keyframe whose BA waits for the worker (threaded mode).
+  std::optional<int> deferred_ba_keyframe_;
+  BaCounts ba_counts_;
   Rigid3d cam_from_world_initial_;
 
   int next_frame_id_ = 0;

@@ -71,17 +71,22 @@ class TrackerSimTest : public ::testing::Test {
 std::unique_ptr<TempDir> TrackerSimTest::dir_;
 std::unique_ptr<sim::SimResult> TrackerSimTest::result_;
 
+// Bounds at about 1.5-2x of the values measured on tiny seeds 1 (this fixture), 3, 11 and 21
+// (2026-12-02, commit after e712238): largest per-pose error 0.126 / 0.117 / 0.144 / 0.098 m, end
+// drift 0.190 / 0.191 / 0.248 / 0.062 % of the path, with
+//   planeloc sim --preset tiny --seed S --out D; planeloc run --sequence D/sequences/00
+//   --no-planes --deterministic --out T (errors against D/poses/00.txt, no alignment).
 TEST_F(TrackerSimTest, TinyTracksEveryFrameWithSmallDrift) {
   const RunSummary summary = RunSequence(Run("deterministic", true));
   ASSERT_EQ(summary.frames, result_->frames);
   EXPECT_EQ(summary.lost, 0);
   EXPECT_EQ(summary.tracked, summary.frames);
-  EXPECT_LT(EndDrift(summary.world_from_cam), 0.015);
+  EXPECT_LT(EndDrift(summary.world_from_cam), 0.005);
   // Every pose close to the truth (first pose identity in both).
   for (int i = 0; i < summary.frames; ++i) {
     EXPECT_LT(
         (summary.world_from_cam[i].translation - result_->world_from_cam[i].translation).norm(),
-        0.5)
+        0.25)
         << "frame " << i;
   }
 }
@@ -124,6 +129,11 @@ TEST_F(TrackerSimTest, PlaneMapReducesTheErrorOfTheBaseline) {
   EXPECT_LT(ate_planes, 0.06);
 }
 
+// The BA worker's results come back and are applied: every keyframe's BA is accounted for, and
+// results are applied during the run (a worker that never returned would leave applied at 0 and
+// the keyframes uncounted). Pose bound at ~1.8x of the largest per-pose error measured over the
+// first 30 frames of tiny seeds 1, 3, 11, 21, two threaded runs each (2026-12-02): 0.115 / 0.068 /
+// 0.086 / 0.070 m (`planeloc run --no-planes --frames 30`, default threaded mode).
 TEST_F(TrackerSimTest, ThreadedBaTracksEveryFrame) {
   RunOptions run = Run("threaded", false);
   run.max_frames = 30;
@@ -131,10 +141,24 @@ TEST_F(TrackerSimTest, ThreadedBaTracksEveryFrame) {
   ASSERT_EQ(summary.frames, 30);
   EXPECT_EQ(summary.lost, 0);
   EXPECT_GT(summary.keyframes, 1);
+  const BaCounts& ba = summary.ba;
+  EXPECT_EQ(ba.keyframes, summary.keyframes);
+  EXPECT_EQ(ba.applied + ba.superseded + ba.discarded + ba.unusable + ba.empty, ba.keyframes);
+  EXPECT_GE(ba.applied, 1);
+  EXPECT_EQ(ba.discarded, 0);  // no plane map: no map-frame correction
+  int applied_during_run = 0;
+  for (const FrameStats& s : summary.stats) {
+    if (!s.ba_keyframe) continue;
+    ++applied_during_run;
+    EXPECT_TRUE(s.ba_median_reprojection_px.has_value()) << "frame " << s.frame;
+  }
+  // Finish() applies at most the running and the deferred BA.
+  EXPECT_GE(applied_during_run, ba.applied - 2);
+  EXPECT_GE(applied_during_run, 1);
   for (int i = 0; i < summary.frames; ++i) {
     EXPECT_LT(
         (summary.world_from_cam[i].translation - result_->world_from_cam[i].translation).norm(),
-        0.5)
+        0.2)
         << "frame " << i;
   }
 }
@@ -173,37 +197,53 @@ TEST_F(TrackerSimTest, SkippedFramesKeepTheMotionModel) {
   }
 }
 
+// Loss and recovery: a blinded frame and a mirrored one (which matches nothing in the map, but
+// has stereo matches, so the map restarts from it with wrong points) are lost; tracking recovers
+// within a few frames and every pose stays within a bound of the truth. Bound at 2x of the
+// largest error measured on this fixture (tiny seed 1, 2026-12-02): 0.090 m at frame 19, drift
+// after the restart at frame 13-14 (0.030 m at the lost frames themselves, motion-model poses).
 TEST_F(TrackerSimTest, LossReinitializesAndContinues) {
   const KittiSequence sequence = KittiSequence::Open(result_->sequence_dir);
   TrackerOptions options;
   options.deterministic = true;
   Tracker tracker(sequence.camera(), options);
   std::vector<TrackingState> states;
-  for (int i = 0; i < 20; ++i) {
+  constexpr int kBlinded = 8, kMirrored = 12, kFrames = 20;
+  for (int i = 0; i < kFrames; ++i) {
     StereoPair pair = sequence.LoadStereoPair(i);
-    if (i == 8) {
+    if (i == kBlinded) {
       pair.left.setTo(0);  // blinded: nothing to track
       pair.right.setTo(0);
-    } else if (i == 12) {
+    } else if (i == kMirrored) {
       cv::flip(pair.left, pair.left, -1);  // a frame that matches nothing in the map
       cv::flip(pair.right, pair.right, -1);
       std::swap(pair.left, pair.right);
     }
     const TrackResult r = tracker.Track(pair.left, pair.right, sequence.timestamp(i));
     states.push_back(r.stats.state);
-    if (i != 12) {
-      EXPECT_LT((r.world_from_cam.translation - result_->world_from_cam[i].translation).norm(), 0.5)
-          << "frame " << i;
-    }
+    EXPECT_LT((r.world_from_cam.translation - result_->world_from_cam[i].translation).norm(), 0.18)
+        << "frame " << i;
   }
-  EXPECT_EQ(states[8], TrackingState::kLost);
-  EXPECT_EQ(states[9], TrackingState::kRelocalized);
-  // The mirrored frame has stereo matches, so the map restarts from it, with wrong points: the
-  // next frame matches neither and restarts again from its own stereo (no place recognition).
-  EXPECT_EQ(states[12], TrackingState::kLost);
-  EXPECT_EQ(states[13], TrackingState::kLost);
-  EXPECT_EQ(states[14], TrackingState::kRelocalized);
-  for (int i : {0, 1, 2, 3, 4, 5, 6, 7, 10, 11, 15, 16, 17, 18, 19}) {
+  EXPECT_EQ(states[kBlinded], TrackingState::kLost);
+  EXPECT_EQ(states[kMirrored], TrackingState::kLost);
+  // Recovery: the first frame after each event that is not lost comes within a few frames
+  // (today: the next frame after the blinded one, two after the mirrored one, whose wrong points
+  // the next frame cannot match), and from there on every frame is tracked until the next event.
+  auto recovered_at = [&](int event) {
+    int i = event + 1;
+    while (i < kFrames && states[i] == TrackingState::kLost) ++i;
+    return i;
+  };
+  const int after_blinded = recovered_at(kBlinded), after_mirrored = recovered_at(kMirrored);
+  EXPECT_LE(after_blinded, kBlinded + 2);
+  EXPECT_LE(after_mirrored, kMirrored + 3);
+  ASSERT_LT(after_mirrored, kFrames);
+  EXPECT_EQ(states[after_blinded], TrackingState::kRelocalized);
+  EXPECT_EQ(states[after_mirrored], TrackingState::kRelocalized);
+  for (int i = 0; i < kFrames; ++i) {
+    const bool recovering =
+        (i > kBlinded && i <= after_blinded) || (i > kMirrored && i <= after_mirrored);
+    if (i == kBlinded || i == kMirrored || recovering) continue;
     EXPECT_EQ(states[i], TrackingState::kTracking) << "frame " << i;
   }
 }
