@@ -68,7 +68,11 @@ struct MapLockOptions {
   // searches, can. Its correction is applied only when it moves the current camera by more than
   // max(min_recorrection, recorrection_sigmas x its sigma) in a registered DoF, or turns it by
   // more than min_recorrection_deg: smaller errors are the BA's.
-  int maintain_every_keyframes = 10;
+  // Off by default (0): with a wrong map (bench_wrong_map.sh, small seed 21: planes rotated by 2
+  // deg, or a map from noisy poses) it accepted 4-5 deg / 2-3.5 m corrections far outside its
+  // own prior and the ATE went from 0.06 to 0.52 m. It needs a consistency test against the
+  // prior (Mahalanobis distance of the correction) before it can be on.
+  int maintain_every_keyframes = 0;
   double maintain_sigma_horizontal = 0.5;  // metres
   double maintain_sigma_vertical = 0.4;    // metres
   double maintain_sigma_yaw_deg = 2.0;
