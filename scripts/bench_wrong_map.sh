@@ -7,7 +7,8 @@
 # Prints one table row per seed: seed vo clean move0.1 move0.2 move0.3 rot2 noisy (metres).
 #
 # Usage: scripts/bench_wrong_map.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
-#        [--config FILE] [--tag NAME] [--init-sigma "S_XY S_Z S_YAW_DEG"]
+#        [--config FILE] [--tag NAME] [--init-sigma "S_XY S_Z S_YAW_DEG"] [--kinds "clean move0.2"]
+# --kinds runs a subset of the columns (ablations: scripts/bench_ablation.sh).
 # The plane-mode runs start from the exact GT pose with --init-sigma "0 0 0" by default, so the
 # numbers measure the association alone (a coarse start adds the map lock: pass the prior).
 # Data (simulator output, maps) is reused from DIR/<preset>-<seed>/ when present; runs go to
@@ -21,6 +22,7 @@ out=/tmp/planeloc-bench-wrong-map
 config=()
 tag=run
 init_sigma="0 0 0"
+kinds="vo clean move0.1 move0.2 move0.3 rot2 noisy"
 while [ $# -gt 0 ]; do
   case "$1" in
     --preset) preset="$2"; shift 2 ;;
@@ -29,7 +31,8 @@ while [ $# -gt 0 ]; do
     --config) config=(--config "$2"); shift 2 ;;
     --tag) tag="$2"; shift 2 ;;
     --init-sigma) init_sigma="$2"; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    --kinds) kinds="$2"; shift 2 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     *) echo "bench_wrong_map.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -40,7 +43,7 @@ ate() {  # ATE RMSE of a trajectory, metres
     "$2.ate.json"
 }
 echo "preset $preset, binary $planeloc"
-echo "seed vo clean move0.1 move0.2 move0.3 rot2 noisy"
+echo "seed $kinds"
 for seed in $seeds; do
   d="$out/$preset-$seed"
   mkdir -p "$d"
@@ -61,7 +64,7 @@ for seed in $seeds; do
       --seed "$seed" --fraction 0.2 "${arg[@]}" 2>>"$d/log.txt"
   done
   # Noisy map: the LiDAR map accumulated from poses with 5 cm / 0.2 deg noise per axis.
-  if [ ! -f "$d/planes_noisy.json" ]; then
+  if [[ " $kinds " == *" noisy "* && ! -f "$d/planes_noisy.json" ]]; then
     python3 "$root/scripts/noisy_poses.py" "$d/sim/poses/00.txt" "$d/poses_noisy.txt" \
       --seed "$seed" --sigma-t 0.05 --sigma-r-deg 0.2
     "$planeloc" map build --sequence "$d/sim/sequences/00" --poses "$d/poses_noisy.txt" \
@@ -73,7 +76,7 @@ for seed in $seeds; do
   r="$d/$tag"
   mkdir -p "$r"
   row="$seed"
-  for kind in vo clean move0.1 move0.2 move0.3 rot2 noisy; do
+  for kind in $kinds; do
     case "$kind" in
       vo) maparg=(--no-planes) ;;
       clean) maparg=(--planes "$d/planes.json" --init-sigma "$init_sigma") ;;

@@ -5,7 +5,8 @@
 
 namespace planeloc {
 
-void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJob& job) {
+void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJob& job,
+                const CreaseChecker* creases) {
   const auto start = std::chrono::steady_clock::now();
   try {
     job.result = SolveWindowBa(camera, job.problem, options);
@@ -14,10 +15,19 @@ void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJo
   }
   job.milliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (!creases) return;
+  for (CreaseCheckJob& check : job.crease_checks) {
+    check.result = creases->Compute(check.cam_from_world, camera, check.image);
+    check.image.release();  // the tracker needs only the result
+  }
 }
 
-BaWorker::BaWorker(const StereoCamera& camera, const WindowBaOptions& options)
-    : camera_(camera), options_(options), thread_([this](std::stop_token stop) { Run(stop); }) {}
+BaWorker::BaWorker(const StereoCamera& camera, const WindowBaOptions& options,
+                   const CreaseChecker* creases)
+    : camera_(camera),
+      options_(options),
+      creases_(creases),
+      thread_([this](std::stop_token stop) { Run(stop); }) {}
 
 BaWorker::~BaWorker() {
   thread_.request_stop();
@@ -64,7 +74,7 @@ void BaWorker::Run(std::stop_token stop) {
       pending_.reset();
       running_ = true;
     }
-    SolveBaJob(camera_, options_, job);
+    SolveBaJob(camera_, options_, job, creases_);
     {
       std::lock_guard lock(mutex_);
       finished_ = std::move(job);  // empty before: Submit refuses while a result waits

@@ -8,18 +8,33 @@
 
 #include <condition_variable>
 #include <mutex>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <stop_token>
 #include <thread>
+#include <vector>
 
 #include "planeloc/geometry/camera.h"
+#include "planeloc/geometry/rigid3.h"
 #include "planeloc/optim/window_ba.h"
+#include "planeloc/tracking/crease_check.h"
 #include "planeloc/tracking/local_mapping.h"
 
 namespace planeloc {
 
+// The LSD crease check of one keyframe (crease_check.h), run on the worker with the BA job that
+// follows its keyframe, so that the frame path does not pay for it.
+struct CreaseCheckJob {
+  int keyframe_id = 0;
+  Rigid3d cam_from_world;  // the keyframe's pose when it was inserted
+  cv::Mat image;           // its left image at the check's pyramid level (owned copy)
+  std::optional<KeyframeCreaseCheck> result;
+};
+
 struct BaJob {
   int keyframe_id = 0;  // keyframe whose insertion triggered the BA
+  // Crease checks of the keyframes inserted since the last job (this one's included).
+  std::vector<CreaseCheckJob> crease_checks;
   WindowProblem problem;
   // Version stamps of the window when it was built, and the tracker's map-frame correction count
   // then: a result solved before a correction is dropped, and one that finds a keyframe or
@@ -30,12 +45,16 @@ struct BaJob {
   double milliseconds = 0;  // solve time
 };
 
-// Solves one job in the calling thread (the deterministic path; also used by the worker).
-void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJob& job);
+// Solves one job in the calling thread (the deterministic path; also used by the worker); runs
+// its crease checks with `creases` when that is given.
+void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJob& job,
+                const CreaseChecker* creases = nullptr);
 
 class BaWorker {
  public:
-  BaWorker(const StereoCamera& camera, const WindowBaOptions& options);
+  // `creases` (may be null) must outlive the worker; the worker only calls its const Compute.
+  BaWorker(const StereoCamera& camera, const WindowBaOptions& options,
+           const CreaseChecker* creases = nullptr);
   ~BaWorker();  // stops and joins; a running solve finishes first
   BaWorker(const BaWorker&) = delete;
   BaWorker& operator=(const BaWorker&) = delete;
@@ -54,6 +73,7 @@ class BaWorker {
 
   StereoCamera camera_;
   WindowBaOptions options_;
+  const CreaseChecker* creases_;
   std::mutex mutex_;
   std::condition_variable_any wake_;
   std::condition_variable done_;

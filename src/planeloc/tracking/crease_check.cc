@@ -107,9 +107,9 @@ void CreaseCheckOptions::Check() const {
 
 std::string CreaseCheckStats::ToJson() const {
   std::string json = fmt::format(
-      "{{\"lsd_segments\":{},\"visible_planes\":{},\"visible_creases\":{},"
+      "{{\"keyframe\":{},\"lsd_segments\":{},\"visible_planes\":{},\"visible_creases\":{},"
       "\"confirmed_creases\":{},\"matched_runs\":{}",
-      lsd_segments, visible_planes, visible_creases, confirmed_creases, matched_runs);
+      keyframe_id, lsd_segments, visible_planes, visible_creases, confirmed_creases, matched_runs);
   if (median_edge_px) json += fmt::format(",\"median_edge_px\":{:.3f}", *median_edge_px);
   return json + fmt::format(
                     ",\"gate_rejected\":{},\"gate_rejected_region\":{},\"gate_rejected_side\":{},"
@@ -300,6 +300,15 @@ CreaseChecker::CreaseChecker(const PlaneMap& map, const CreaseCheckOptions& opti
 
 CreaseCheckStats CreaseChecker::CheckKeyframe(int keyframe_id, const Rigid3d& cam_from_world,
                                               const StereoCamera& camera, const cv::Mat& image) {
+  KeyframeCreaseCheck check = Compute(cam_from_world, camera, image);
+  check.stats.keyframe_id = keyframe_id;
+  const CreaseCheckStats stats = check.stats;
+  Keep(keyframe_id, std::move(check));
+  return stats;
+}
+
+KeyframeCreaseCheck CreaseChecker::Compute(const Rigid3d& cam_from_world,
+                                           const StereoCamera& camera, const cv::Mat& image) const {
   const auto start = std::chrono::steady_clock::now();
   KeyframeCreaseCheck check;
   check.cam_from_world = cam_from_world;
@@ -331,10 +340,12 @@ CreaseCheckStats CreaseChecker::CheckKeyframe(int keyframe_id, const Rigid3d& ca
   if (!distances.empty()) stats.median_edge_px = Median(distances);
   stats.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  const CreaseCheckStats result = stats;
+  return check;
+}
+
+void CreaseChecker::Keep(int keyframe_id, KeyframeCreaseCheck check) {
   checks_[keyframe_id] = std::move(check);
   while (static_cast<int>(checks_.size()) > options_.keep_keyframes) checks_.erase(checks_.begin());
-  return result;
 }
 
 const KeyframeCreaseCheck* CreaseChecker::check(int keyframe_id) const {

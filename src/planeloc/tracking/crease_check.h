@@ -65,6 +65,7 @@ struct CreaseCheckOptions {
 };
 
 struct CreaseCheckStats {
+  int keyframe_id = -1;  // the keyframe checked (threaded runs report it a few frames later)
   int lsd_segments = 0;
   int visible_planes = 0;                // planes owning at least one label cell
   int visible_creases = 0;               // creases with a visible run
@@ -141,6 +142,12 @@ class CreaseChecker {
   // keep_keyframes keyframes).
   CreaseCheckStats CheckKeyframe(int keyframe_id, const Rigid3d& cam_from_world,
                                  const StereoCamera& camera, const cv::Mat& image);
+  // CheckKeyframe in two steps, so that the expensive one (LSD, rendering, matching) can run on
+  // the BA worker: Compute reads only what the constructor set, so it may run on another thread
+  // while this thread calls Judge; Keep stores the result for the gate (this thread).
+  KeyframeCreaseCheck Compute(const Rigid3d& cam_from_world, const StereoCamera& camera,
+                              const cv::Mat& image) const;
+  void Keep(int keyframe_id, KeyframeCreaseCheck check);
   // The gate for one view of a point (see the header comment): its keypoint in keyframe
   // `keyframe_id` (level-0 pixels) and its position. True when the keyframe was not checked.
   enum class Verdict { kAllowed, kOutsideRegion, kAcrossCrease };

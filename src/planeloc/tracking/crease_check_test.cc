@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <numbers>
+#include <thread>
 #include <utility>
 
 #include "planeloc/tracking/local_mapping.h"
@@ -179,6 +180,30 @@ TEST(CreaseCheckTest, GateRefusesKeypointsAcrossAConfirmedCrease) {
   // region test applies, and the facade's region reaches the keypoint.
   checker.CheckKeyframe(1, Rigid3d::Identity(), camera, cv::Mat(image.size(), CV_8U, 128));
   EXPECT_TRUE(checker.Allows(1, pixel(below), below, kFacade));
+}
+
+// The threaded tracker computes a keyframe's check on the BA worker and keeps it later: the gate
+// knows nothing of the keyframe until Keep, and then judges as CheckKeyframe would have.
+TEST(CreaseCheckTest, ComputeOnAnotherThreadThenKeep) {
+  const StereoCamera camera = testing::RoundStereoCamera();
+  const cv::Mat image = RenderStreet(camera);
+  CreaseChecker checker(Street(), LevelZero());
+  KeyframeCreaseCheck computed;
+  std::thread worker(
+      [&] { computed = checker.Compute(Rigid3d::Identity(), camera, image.clone()); });
+  worker.join();
+  auto pixel = [&](const Eigen::Vector3d& x) { return *camera.Project(x); };
+  const Eigen::Vector3d below(5.95, 1.9, 10);  // across the confirmed crease (test above)
+  EXPECT_TRUE(checker.Allows(0, pixel(below), below, kFacade));  // not kept yet
+  EXPECT_GE(computed.stats.confirmed_creases, 1);
+  checker.Keep(0, std::move(computed));
+  EXPECT_FALSE(checker.Allows(0, pixel(below), below, kFacade));
+
+  CreaseChecker direct(Street(), LevelZero());
+  const CreaseCheckStats stats = direct.CheckKeyframe(7, Rigid3d::Identity(), camera, image);
+  EXPECT_EQ(stats.keyframe_id, 7);
+  EXPECT_EQ(stats.confirmed_creases, checker.check(0)->stats.confirmed_creases);
+  EXPECT_EQ(stats.lsd_segments, checker.check(0)->stats.lsd_segments);
 }
 
 TEST(CreaseCheckTest, GateMeasuresFromTheImageEdge) {

@@ -163,9 +163,12 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
   const double scale2 = map.scale().scale_factor * map.scale().scale_factor;
   std::set<int> plane_ids;
   int associations = 0;
+  std::vector<double> map_variances;  // per problem point, of its association
+  std::map<int, int> plane_points;    // associations per plane in this window
   for (int id : point_ids) {
     const MapPoint& point = map.point(id);
     WindowPoint window_point{id, point.point_in_world, std::nullopt};
+    double map_variance = 0;
     if (planes) {
       // Decided from the point's stereo measurements, not from its BA position (hysteresis).
       if (const auto estimate = VisualPointEstimate(map, point, camera, options)) {
@@ -179,10 +182,13 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
           window_point.plane_id = association->plane_id;
           window_point.plane_sigma = association->sigma;
           ++associations;
+          ++plane_points[association->plane_id];
+          map_variance = association->map_variance;
         }
       }
     }
     problem.points.push_back(window_point);
+    map_variances.push_back(map_variance);
     for (const auto& [kf_id, keypoint] : point.observations) {
       if (!local_set.count(kf_id) && !fixed.count(kf_id)) continue;
       const Keyframe& kf = map.keyframe(kf_id);
@@ -208,6 +214,17 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
       } else if (p.plane_id) {
         plane_ids.insert(*p.plane_id);
       }
+    }
+    const int common = options.planes.common_mode_points;
+    for (std::size_t i = 0; active && common > 0 && i < problem.points.size(); ++i) {
+      WindowPoint& p = problem.points[i];
+      if (!p.plane_id) continue;
+      const double n = plane_points[*p.plane_id];
+      if (n <= common) continue;
+      // sigma^2 = point variance + map variance: only the map's part is common to the plane.
+      const double map_variance = map_variances[i];
+      const double point_variance = p.plane_sigma * p.plane_sigma - map_variance;
+      p.plane_sigma = std::sqrt(point_variance + map_variance * n / common);
     }
   }
   for (const int plane_id : plane_ids) {

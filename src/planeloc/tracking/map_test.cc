@@ -407,5 +407,58 @@ TEST(LocalMappingTest, WindowTagsPlanePointsAndGrowsAtTurns) {
   EXPECT_TRUE(seen);
 }
 
+// A wall that 60 window points lie on: each point counts as independent of the others unless
+// Planes.commonModePoints says the map's error is shared. Then the window's total information
+// from the plane's map error is at most that many points' worth, however many points it holds.
+TEST(LocalMappingTest, CommonModePointsCapAPlanesInformation) {
+  std::mt19937 rng(5);
+  const StereoCamera camera = TestCamera();
+  // At 4 m the points' own sigma along the normal (2.6 cm) is small next to the map's (5.8 cm).
+  std::uniform_real_distribution<double> x(-3, 3), y(-0.9, 0.9);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 60; ++i) points.emplace_back(x(rng), y(rng), 4.0);
+  const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
+  SparseMap map;
+  TrackerOptions options;
+  const int kf = map.AddKeyframe(frame);
+  CreateStereoPoints(map, kf, camera, options);
+  map.UpdateConnections(kf);
+  PlaneMap plane_map;
+  MapPlane wall;
+  wall.id = 7;
+  wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -4.0);
+  wall.area = 400;
+  wall.rms = 0.03;
+  wall.polygon = {{-20, -20, 4}, {20, -20, 4}, {20, 20, 4}, {-20, 20, 4}};
+  plane_map.planes.push_back(wall);
+  options.planes.min_associations = 1;
+  // The plane's map variance: its rms and the map sigma (no bias recorded yet).
+  const double map_variance =
+      wall.rms * wall.rms + options.planes.map_sigma * options.planes.map_sigma;
+  auto information = [&](int common_mode_points, int* associated) {
+    options.planes.common_mode_points = common_mode_points;
+    PlaneAssociator planes(plane_map, options.planes);
+    double sum = 0;
+    *associated = 0;
+    for (const WindowPoint& p : BuildLocalWindow(map, kf, options, camera, &planes).points) {
+      if (!p.plane_id) continue;
+      ++*associated;
+      sum += 1.0 / (p.plane_sigma * p.plane_sigma);
+    }
+    return sum;
+  };
+  int independent_points = 0, capped_points = 0;
+  const double independent = information(0, &independent_points);
+  const double capped = information(10, &capped_points);
+  ASSERT_GE(independent_points, 50);
+  EXPECT_EQ(capped_points, independent_points);  // the gate is unchanged: same associations
+  EXPECT_LE(capped, 10.0 / map_variance * (1 + 1e-9));
+  EXPECT_GT(capped, 0.9 * 10.0 / map_variance);
+  EXPECT_GT(independent, 4.0 * capped);
+  // A plane with fewer points than the cap keeps every point's weight.
+  int few_points = 0;
+  EXPECT_DOUBLE_EQ(information(100, &few_points), independent);
+}
+
 }  // namespace
 }  // namespace planeloc

@@ -31,6 +31,9 @@ void PlaneAssociationOptions::Check() const {
   }
   if (!(cell_size > 0.0)) throw OptionsError("PlaneAssociationOptions.cell_size must be > 0 (m)");
   if (!(gate_chi2 > 0.0)) throw OptionsError("PlaneAssociationOptions.gate_chi2 must be > 0");
+  if (common_mode_points < 0) {
+    throw OptionsError("PlaneAssociationOptions.common_mode_points must be >= 0 (0: off)");
+  }
   if (!(map_sigma >= 0.0)) {
     throw OptionsError("PlaneAssociationOptions.map_sigma must be >= 0 (m)");
   }
@@ -157,6 +160,16 @@ std::optional<CreaseCheckStats> PlaneAssociator::CheckKeyframe(
   return creases_->CheckKeyframe(keyframe_id, cam_from_world, camera, left_pyramid[level]);
 }
 
+cv::Mat PlaneAssociator::CreaseCheckImage(const std::vector<cv::Mat>& left_pyramid) const {
+  const int level = options_.crease.lsd_level;
+  if (!creases_ || level >= static_cast<int>(left_pyramid.size())) return {};
+  return left_pyramid[level];
+}
+
+void PlaneAssociator::KeepCreaseCheck(int keyframe_id, KeyframeCreaseCheck check) {
+  if (creases_) creases_->Keep(keyframe_id, std::move(check));
+}
+
 bool PlaneAssociator::GateAllows(int plane_id, const Eigen::Vector3d& point_in_map,
                                  const std::vector<KeypointView>& views) {
   if (!options_.crease_gate || !creases_) return true;
@@ -234,14 +247,15 @@ std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& 
     const Plane& plane = flat.plane.plane_in_map;
     const double s = plane.SignedDistance(x);
     if (std::abs(s) > options_.max_distance) return true;
-    const double variance = plane.normal.dot(estimate.covariance * plane.normal) + Variance(flat);
+    const double map_variance = Variance(flat);
+    const double variance = plane.normal.dot(estimate.covariance * plane.normal) + map_variance;
     if (s * s > options_.gate_chi2 * variance) return true;
     if (!InsideOutline(flat, x)) return true;
     if (found && found->plane_id != flat.plane.id) {
       ambiguous = true;
       return false;
     }
-    found = PlaneAssociation{flat.plane.id, s, std::sqrt(variance)};
+    found = PlaneAssociation{flat.plane.id, s, std::sqrt(variance), map_variance};
     return true;
   });
   if (ambiguous) return std::nullopt;

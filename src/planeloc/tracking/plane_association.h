@@ -58,6 +58,13 @@ struct PlaneAssociationOptions {
   // Staged activation: a window with fewer associated points is solved as plain visual BA
   // (Planes.minAssociations).
   int min_associations = 30;
+  // The map's error of a plane (its rms, map_sigma, its bias) is the same for every point on it:
+  // N points in a window do not average it down. With this > 0, a window with N_k points
+  // associated with plane k weighs each of them with sigma^2 = n^T C n + map variance *
+  // max(1, N_k / common_mode_points), so that the window draws from the plane's map error no
+  // more information than this many independent points would give (Planes.commonModePoints;
+  // 0: off, every point counts as independent).
+  int common_mode_points = 0;
   // A map that can be wrong (Planes.bias*): statistics over points within stats_band metres
   // (inside the outline) whose own sigma along the normal is at most stats_max_point_sigma.
   // Metres: 0.5 let points of other surfaces near small planes dominate the median (a clean
@@ -107,6 +114,7 @@ struct PlaneAssociation {
   int plane_id = 0;
   double signed_distance = 0;  // metres, of the estimate
   double sigma = 0;            // metres: the gate's sigma, also the BA residual's
+  double map_variance = 0;     // m^2: the plane's part of sigma^2 (rms, map sigma, bias)
 };
 
 // Per plane: statistics of its points' signed distances (the visual estimates).
@@ -166,6 +174,11 @@ class PlaneAssociator {
     return window_gate_rejections_[0] + window_gate_rejections_[1];
   }
   const CreaseChecker* crease_checker() const { return creases_.get(); }
+  // The crease check's image of a keyframe (its pyramid level options.crease.lsd_level), empty
+  // when the check is off or the pyramid has no such level; and the gate's copy of a check
+  // computed elsewhere (CreaseChecker::Compute on the BA worker).
+  cv::Mat CreaseCheckImage(const std::vector<cv::Mat>& left_pyramid) const;
+  void KeepCreaseCheck(int keyframe_id, KeyframeCreaseCheck check);
 
   // Plane by id (as in planes.json). Throws std::out_of_range for an unknown id.
   const MapPlane& plane(int id) const;

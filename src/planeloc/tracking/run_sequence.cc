@@ -234,6 +234,8 @@ RunSummary RunSequence(const RunOptions& run) {
     if (progress) progress->Update(i + 1);
   }
   tracker.Finish();
+  // Threaded runs: checks of the last keyframes finished after the last frame's stats line.
+  const std::vector<CreaseCheckStats> late_crease_checks = tracker.TakeUnreportedCreaseChecks();
   writer.Close();
   if (stats_out) stats_out->Commit();
   if (progress) progress->Finish();
@@ -245,6 +247,14 @@ RunSummary RunSequence(const RunOptions& run) {
   std::vector<double> ba_medians, edge_medians;
   double tracked_points = 0, plane_residuals = 0;
   int bas = 0;
+  auto add_crease_check = [&](const CreaseCheckStats& check) {
+    ++summary.crease_keyframes;
+    summary.mean_visible_creases += check.visible_creases;
+    summary.mean_confirmed_creases += check.confirmed_creases;
+    summary.gate_rejected += check.gate_rejected_region + check.gate_rejected_side;
+    if (check.median_edge_px) edge_medians.push_back(*check.median_edge_px);
+  };
+  for (const CreaseCheckStats& check : late_crease_checks) add_crease_check(check);
   for (const FrameStats& s : summary.stats) {
     ++summary.frames;
     summary.skipped += s.skipped ? 1 : 0;
@@ -254,14 +264,7 @@ RunSummary RunSequence(const RunOptions& run) {
     tracked_points += s.tracked_points;
     if (s.ba_median_reprojection_px) ba_medians.push_back(*s.ba_median_reprojection_px);
     if (s.planes_disabled) summary.planes_disabled = *s.planes_disabled;
-    if (s.crease_check) {
-      ++summary.crease_keyframes;
-      summary.mean_visible_creases += s.crease_check->visible_creases;
-      summary.mean_confirmed_creases += s.crease_check->confirmed_creases;
-      summary.gate_rejected +=
-          s.crease_check->gate_rejected_region + s.crease_check->gate_rejected_side;
-      if (s.crease_check->median_edge_px) edge_medians.push_back(*s.crease_check->median_edge_px);
-    }
+    if (s.crease_check) add_crease_check(*s.crease_check);
     if (s.ba_plane_residuals) {
       plane_residuals += *s.ba_plane_residuals;
       ++bas;

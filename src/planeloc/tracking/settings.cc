@@ -102,6 +102,7 @@ const std::vector<Key>& Keys() {
       D("Planes.mapSigma", [](O& o) -> double& { return o.planes.map_sigma; }),
       D("Planes.pixelSigma", [](O& o) -> double& { return o.planes.pixel_sigma; }),
       I("Planes.minAssociations", [](O& o) -> int& { return o.planes.min_associations; }),
+      I("Planes.commonModePoints", [](O& o) -> int& { return o.planes.common_mode_points; }),
       D("Planes.statsBand", [](O& o) -> double& { return o.planes.stats_band; }),
       D("Planes.statsMaxPointSigma",
         [](O& o) -> double& { return o.planes.stats_max_point_sigma; }),

@@ -97,7 +97,10 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
   } else {
     options_.ba.lambda = 1.0;  // nothing to weigh the reprojection against
   }
-  if (!options_.deterministic) ba_worker_ = std::make_unique<BaWorker>(camera_, options_.ba);
+  if (!options_.deterministic) {
+    ba_worker_ = std::make_unique<BaWorker>(camera_, options_.ba,
+                                            planes_ ? planes_->crease_checker() : nullptr);
+  }
 }
 
 Tracker::~Tracker() = default;
@@ -151,6 +154,7 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
 
   const auto track_start = Clock::now();
   ApplyBaResults(stats, /*wait=*/false);
+  ReportCreaseCheck(stats);
   ApplyLockResults(stats, nullptr, /*wait=*/false);
   SubmitDeferredBa(stats);
   if (planes_) stats.map_lock = MapLockName(map_lock());
@@ -442,10 +446,18 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
     planes_->SetTrajectoryCovariance(Eigen::Matrix3d::Zero());
     settle_until_keyframe_id_ = -1;
   }
-  // The crease check needs this keyframe's image: now, even if its BA waits for the worker.
+  // The crease check needs this keyframe's image: taken now, even if its BA waits for the worker,
+  // and checked on the worker with the next BA job (threaded) or here (deterministic).
   if (planes_ && (!locker_ || locker_->PlanesActive())) {
-    stats.crease_check =
-        planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
+    if (ba_worker_) {
+      const cv::Mat image = planes_->CreaseCheckImage(left_pyramid_);
+      if (!image.empty()) {
+        crease_backlog_.push_back({kf_id, frame.cam_from_world, image.clone(), std::nullopt});
+      }
+    } else {
+      stats.crease_check =
+          planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
+    }
   }
   ++ba_counts_.keyframes;
   if (ba_worker_) {
@@ -497,8 +509,11 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats) {
 
 void Tracker::SubmitBa(int keyframe_id, FrameStats& stats) {
   std::optional<BaJob> job = MakeBaJob(keyframe_id, stats);
+  if (!job) return;  // the crease backlog waits for the next job
+  job->crease_checks = std::move(crease_backlog_);
+  crease_backlog_.clear();
   // MappingIdle() held: the worker accepts the job.
-  if (job && !ba_worker_->Submit(std::move(*job))) ++ba_counts_.superseded;
+  if (!ba_worker_->Submit(std::move(*job))) ++ba_counts_.superseded;
 }
 
 void Tracker::SubmitDeferredBa(FrameStats& stats) {
@@ -518,6 +533,15 @@ void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
   if (!ba_worker_) return;
   std::optional<BaJob> job = wait ? ba_worker_->WaitResult() : ba_worker_->TakeResult();
   if (!job) return;
+  for (CreaseCheckJob& check : job->crease_checks) {
+    if (!check.result) continue;
+    check.result->stats.keyframe_id = check.keyframe_id;
+    crease_stats_ready_.push_back(check.result->stats);
+    // The gate's label image is in the map frame of its time: useless after a correction.
+    if (job->correction_epoch == correction_epoch_) {
+      planes_->KeepCreaseCheck(check.keyframe_id, std::move(*check.result));
+    }
+  }
   if (job->correction_epoch != correction_epoch_) {
     // Solved in the frame before a map-lock correction: applying it would undo the correction.
     stats.ba_discarded = true;
@@ -539,6 +563,19 @@ void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
     last_frame_->cam_from_world =
         last_from_reference_ * map_.keyframe(reference_keyframe_id_).cam_from_world;
   }
+}
+
+std::vector<CreaseCheckStats> Tracker::TakeUnreportedCreaseChecks() {
+  std::vector<CreaseCheckStats> checks(crease_stats_ready_.begin(), crease_stats_ready_.end());
+  crease_stats_ready_.clear();
+  return checks;
+}
+
+void Tracker::ReportCreaseCheck(FrameStats& stats) {
+  if (crease_stats_ready_.empty()) return;
+  stats.crease_check = crease_stats_ready_.front();
+  crease_stats_ready_.pop_front();
+  planes_->FillGateStats(*stats.crease_check);
 }
 
 void Tracker::ApplyLockResults(FrameStats& stats, Frame* current, bool wait) {
@@ -588,6 +625,14 @@ void Tracker::Finish() {
   // The last keyframe's deferred BA: solved and applied, so that every keyframe is accounted for.
   SubmitDeferredBa(ignored);
   ApplyBaResults(ignored, /*wait=*/true);
+  // Keyframes whose BA job never came (empty windows): checked here, so every one is counted.
+  for (CreaseCheckJob& job : crease_backlog_) {
+    KeyframeCreaseCheck check =
+        planes_->crease_checker()->Compute(job.cam_from_world, camera_, job.image);
+    check.stats.keyframe_id = job.keyframe_id;
+    crease_stats_ready_.push_back(check.stats);
+  }
+  crease_backlog_.clear();
 }
 
 }  // namespace planeloc

@@ -13,6 +13,7 @@
 // keyframes and points that were not moved since its window was built (BaCounts).
 #pragma once
 
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -126,6 +127,8 @@ class Tracker {
   TrackResult SkipFrame(double timestamp);
   // Waits for a running BA and applies it (call at the end of a sequence).
   void Finish();
+  // Threaded mode, after Finish: the crease checks no frame's stats reported.
+  std::vector<CreaseCheckStats> TakeUnreportedCreaseChecks();
 
   const SparseMap& map() const { return map_; }
   // Map-frame corrections applied so far (registration locks).
@@ -160,6 +163,8 @@ class Tracker {
   // Applies a finished registration: its correction moves the segment (and `current`) into the
   // map frame.
   void ApplyLockResults(FrameStats& stats, Frame* current, bool wait);
+  // Threaded mode: the next finished crease check into this frame's stats.
+  void ReportCreaseCheck(FrameStats& stats);
   void ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id);
   Rigid3d PredictPose() const;
   double CloseDepth() const { return options_.close_depth_baselines * camera_.baseline; }
@@ -192,6 +197,10 @@ class Tracker {
   bool lost_before_ = false;
   int frames_skipped_ = 0;             // frames without images since last_frame_
   std::vector<cv::Mat> left_pyramid_;  // of the frame being tracked, for the crease check
+  // Threaded mode: crease checks of keyframes not yet handed to the worker (they go with the next
+  // BA job), and finished checks' stats not yet reported (one per frame's stats line).
+  std::vector<CreaseCheckJob> crease_backlog_;
+  std::deque<CreaseCheckStats> crease_stats_ready_;
 };
 
 }  // namespace planeloc
