@@ -5,8 +5,7 @@
 
 namespace planeloc {
 
-void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJob& job,
-                const CreaseChecker* creases) {
+void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJob& job) {
   const auto start = std::chrono::steady_clock::now();
   try {
     job.result = SolveWindowBa(camera, job.problem, options);
@@ -15,11 +14,6 @@ void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJo
   }
   job.milliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  if (!creases) return;
-  for (CreaseCheckJob& check : job.crease_checks) {
-    check.result = creases->Compute(check.cam_from_world, camera, check.image);
-    check.image.release();  // the tracker needs only the result
-  }
 }
 
 BaWorker::BaWorker(const StereoCamera& camera, const WindowBaOptions& options,
@@ -64,21 +58,67 @@ std::optional<BaJob> BaWorker::WaitResult() {
   return result;
 }
 
+void BaWorker::SubmitCreaseCheck(CreaseCheckJob job) {
+  if (!creases_) return;
+  {
+    std::lock_guard lock(mutex_);
+    crease_pending_.push_back(std::move(job));
+  }
+  wake_.notify_all();
+}
+
+std::vector<CreaseCheckJob> BaWorker::TakeCreaseChecks() {
+  std::lock_guard lock(mutex_);
+  std::vector<CreaseCheckJob> checks = std::move(crease_finished_);
+  crease_finished_.clear();
+  return checks;
+}
+
+std::vector<CreaseCheckJob> BaWorker::WaitCreaseChecks() {
+  std::unique_lock lock(mutex_);
+  done_.wait(lock, [this] { return crease_pending_.empty() && !crease_running_; });
+  std::vector<CreaseCheckJob> checks = std::move(crease_finished_);
+  crease_finished_.clear();
+  return checks;
+}
+
 void BaWorker::Run(std::stop_token stop) {
   while (true) {
-    BaJob job;
+    std::optional<BaJob> job;
+    std::optional<CreaseCheckJob> check;
     {
       std::unique_lock lock(mutex_);
-      if (!wake_.wait(lock, stop, [this] { return pending_.has_value(); })) return;
-      job = std::move(*pending_);
-      pending_.reset();
-      running_ = true;
+      if (!wake_.wait(lock, stop,
+                      [this] { return pending_.has_value() || !crease_pending_.empty(); })) {
+        return;
+      }
+      // A BA first: the tracker's next window waits for it; a crease check only feeds stats and
+      // the (optional) gate.
+      if (pending_) {
+        job = std::move(pending_);
+        pending_.reset();
+        running_ = true;
+      } else {
+        check = std::move(crease_pending_.front());
+        crease_pending_.pop_front();
+        crease_running_ = true;
+      }
     }
-    SolveBaJob(camera_, options_, job, creases_);
+    if (job) {
+      SolveBaJob(camera_, options_, *job);
+    } else {
+      check->result = creases_->Compute(check->cam_from_world, camera_, check->image);
+      check->image.release();  // the tracker needs only the result
+    }
     {
       std::lock_guard lock(mutex_);
-      finished_ = std::move(job);  // empty before: Submit refuses while a result waits
-      running_ = false;
+      if (job) {
+        finished_ = std::move(job);  // empty before: Submit refuses while a result waits
+        running_ = false;
+      } else {
+        crease_finished_.push_back(std::move(*check));
+        crease_running_ = false;
+      }
     }
     done_.notify_all();
   }

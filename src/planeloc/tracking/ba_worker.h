@@ -7,6 +7,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <deque>
 #include <mutex>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -22,19 +23,18 @@
 
 namespace planeloc {
 
-// The LSD crease check of one keyframe (crease_check.h), run on the worker with the BA job that
-// follows its keyframe, so that the frame path does not pay for it.
+// The LSD crease check of one keyframe (crease_check.h), run on the worker when it has no BA to
+// solve, so that neither the frame path nor the keyframes' BAs wait for it.
 struct CreaseCheckJob {
   int keyframe_id = 0;
-  Rigid3d cam_from_world;  // the keyframe's pose when it was inserted
-  cv::Mat image;           // its left image at the check's pyramid level (owned copy)
+  Rigid3d cam_from_world;    // the keyframe's pose when it was inserted
+  int correction_epoch = 0;  // the tracker's map-frame correction count then
+  cv::Mat image;             // its left image at the check's pyramid level (owned copy)
   std::optional<KeyframeCreaseCheck> result;
 };
 
 struct BaJob {
   int keyframe_id = 0;  // keyframe whose insertion triggered the BA
-  // Crease checks of the keyframes inserted since the last job (this one's included).
-  std::vector<CreaseCheckJob> crease_checks;
   WindowProblem problem;
   // Version stamps of the window when it was built, and the tracker's map-frame correction count
   // then: a result solved before a correction is dropped, and one that finds a keyframe or
@@ -45,14 +45,13 @@ struct BaJob {
   double milliseconds = 0;  // solve time
 };
 
-// Solves one job in the calling thread (the deterministic path; also used by the worker); runs
-// its crease checks with `creases` when that is given.
-void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJob& job,
-                const CreaseChecker* creases = nullptr);
+// Solves one job in the calling thread (the deterministic path; also used by the worker).
+void SolveBaJob(const StereoCamera& camera, const WindowBaOptions& options, BaJob& job);
 
 class BaWorker {
  public:
-  // `creases` (may be null) must outlive the worker; the worker only calls its const Compute.
+  // `creases` (may be null: no crease checks) must outlive the worker; the worker only calls its
+  // const Compute.
   BaWorker(const StereoCamera& camera, const WindowBaOptions& options,
            const CreaseChecker* creases = nullptr);
   ~BaWorker();  // stops and joins; a running solve finishes first
@@ -68,6 +67,14 @@ class BaWorker {
   // Blocks until no job is pending or running, then returns its result if any.
   std::optional<BaJob> WaitResult();
 
+  // Crease checks: queued without limit and run in order whenever no BA job is pending (a BA
+  // submitted meanwhile waits for at most the check that is running). Needs `creases`.
+  void SubmitCreaseCheck(CreaseCheckJob job);
+  // The finished checks (non-blocking), in submission order.
+  std::vector<CreaseCheckJob> TakeCreaseChecks();
+  // Blocks until every queued check has run, then returns the finished ones.
+  std::vector<CreaseCheckJob> WaitCreaseChecks();
+
  private:
   void Run(std::stop_token stop);
 
@@ -79,7 +86,10 @@ class BaWorker {
   std::condition_variable done_;
   std::optional<BaJob> pending_;
   std::optional<BaJob> finished_;
-  bool running_ = false;
+  bool running_ = false;  // a BA job
+  std::deque<CreaseCheckJob> crease_pending_;
+  std::vector<CreaseCheckJob> crease_finished_;
+  bool crease_running_ = false;
   std::jthread thread_;  // last member: started after the state above exists
 };
 

@@ -452,7 +452,8 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
     if (ba_worker_) {
       const cv::Mat image = planes_->CreaseCheckImage(left_pyramid_);
       if (!image.empty()) {
-        crease_backlog_.push_back({kf_id, frame.cam_from_world, image.clone(), std::nullopt});
+        ba_worker_->SubmitCreaseCheck(
+            {kf_id, frame.cam_from_world, correction_epoch_, image.clone(), std::nullopt});
       }
     } else {
       stats.crease_check =
@@ -509,11 +510,8 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats) {
 
 void Tracker::SubmitBa(int keyframe_id, FrameStats& stats) {
   std::optional<BaJob> job = MakeBaJob(keyframe_id, stats);
-  if (!job) return;  // the crease backlog waits for the next job
-  job->crease_checks = std::move(crease_backlog_);
-  crease_backlog_.clear();
   // MappingIdle() held: the worker accepts the job.
-  if (!ba_worker_->Submit(std::move(*job))) ++ba_counts_.superseded;
+  if (job && !ba_worker_->Submit(std::move(*job))) ++ba_counts_.superseded;
 }
 
 void Tracker::SubmitDeferredBa(FrameStats& stats) {
@@ -533,15 +531,6 @@ void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
   if (!ba_worker_) return;
   std::optional<BaJob> job = wait ? ba_worker_->WaitResult() : ba_worker_->TakeResult();
   if (!job) return;
-  for (CreaseCheckJob& check : job->crease_checks) {
-    if (!check.result) continue;
-    check.result->stats.keyframe_id = check.keyframe_id;
-    crease_stats_ready_.push_back(check.result->stats);
-    // The gate's label image is in the map frame of its time: useless after a correction.
-    if (job->correction_epoch == correction_epoch_) {
-      planes_->KeepCreaseCheck(check.keyframe_id, std::move(*check.result));
-    }
-  }
   if (job->correction_epoch != correction_epoch_) {
     // Solved in the frame before a map-lock correction: applying it would undo the correction.
     stats.ba_discarded = true;
@@ -571,7 +560,22 @@ std::vector<CreaseCheckStats> Tracker::TakeUnreportedCreaseChecks() {
   return checks;
 }
 
+void Tracker::CollectCreaseChecks(bool wait) {
+  if (!ba_worker_) return;
+  for (CreaseCheckJob& check :
+       wait ? ba_worker_->WaitCreaseChecks() : ba_worker_->TakeCreaseChecks()) {
+    if (!check.result) continue;
+    check.result->stats.keyframe_id = check.keyframe_id;
+    crease_stats_ready_.push_back(check.result->stats);
+    // The gate's label image is in the map frame of its time: useless after a correction.
+    if (check.correction_epoch == correction_epoch_) {
+      planes_->KeepCreaseCheck(check.keyframe_id, std::move(*check.result));
+    }
+  }
+}
+
 void Tracker::ReportCreaseCheck(FrameStats& stats) {
+  CollectCreaseChecks(/*wait=*/false);
   if (crease_stats_ready_.empty()) return;
   stats.crease_check = crease_stats_ready_.front();
   crease_stats_ready_.pop_front();
@@ -625,14 +629,7 @@ void Tracker::Finish() {
   // The last keyframe's deferred BA: solved and applied, so that every keyframe is accounted for.
   SubmitDeferredBa(ignored);
   ApplyBaResults(ignored, /*wait=*/true);
-  // Keyframes whose BA job never came (empty windows): checked here, so every one is counted.
-  for (CreaseCheckJob& job : crease_backlog_) {
-    KeyframeCreaseCheck check =
-        planes_->crease_checker()->Compute(job.cam_from_world, camera_, job.image);
-    check.stats.keyframe_id = job.keyframe_id;
-    crease_stats_ready_.push_back(check.stats);
-  }
-  crease_backlog_.clear();
+  CollectCreaseChecks(/*wait=*/true);
 }
 
 }  // namespace planeloc

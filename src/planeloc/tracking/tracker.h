@@ -24,6 +24,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
+#include "planeloc/tracking/ba_worker.h"
 #include "planeloc/tracking/frame.h"
 #include "planeloc/tracking/map.h"
 #include "planeloc/tracking/map_lock.h"
@@ -31,9 +32,6 @@
 #include "planeloc/tracking/settings.h"
 
 namespace planeloc {
-
-class BaWorker;
-struct BaJob;
 
 enum class TrackingState {
   kTracking,     // tracked against the map
@@ -163,7 +161,9 @@ class Tracker {
   // Applies a finished registration: its correction moves the segment (and `current`) into the
   // map frame.
   void ApplyLockResults(FrameStats& stats, Frame* current, bool wait);
-  // Threaded mode: the next finished crease check into this frame's stats.
+  // Threaded mode: takes the worker's finished crease checks (kept for the gate unless a map-lock
+  // correction came since), and reports the next one in this frame's stats.
+  void CollectCreaseChecks(bool wait);
   void ReportCreaseCheck(FrameStats& stats);
   void ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id);
   Rigid3d PredictPose() const;
@@ -197,9 +197,7 @@ class Tracker {
   bool lost_before_ = false;
   int frames_skipped_ = 0;             // frames without images since last_frame_
   std::vector<cv::Mat> left_pyramid_;  // of the frame being tracked, for the crease check
-  // Threaded mode: crease checks of keyframes not yet handed to the worker (they go with the next
-  // BA job), and finished checks' stats not yet reported (one per frame's stats line).
-  std::vector<CreaseCheckJob> crease_backlog_;
+  // Threaded mode: finished crease checks' stats not yet reported (one per frame's stats line).
   std::deque<CreaseCheckStats> crease_stats_ready_;
 };
 
