@@ -30,7 +30,12 @@ missing() {  # missing WHAT: skip, or fail in CI
 }
 chromium="$(command -v chromium || command -v chromium-browser || true)"
 [ -n "$chromium" ] || missing chromium
-python3 -c "import PIL" 2>/dev/null || missing "python3-pil"
+# The first python that imports PIL: a pyenv `python3` on PATH often lacks Debian's python3-pil.
+python=""
+for candidate in ${PLANELOC_PYTHON:-} python3 /usr/bin/python3; do
+  if "$candidate" -c "import PIL" 2>/dev/null; then python="$candidate"; break; fi
+done
+[ -n "$python" ] || missing "python3-pil"
 
 # The pipeline, on the tiny preset (60 frames).
 run_step() {  # run_step NAME COMMAND...
@@ -52,7 +57,7 @@ for f in run.json trajectory.txt stats.jsonl summary.json settings.yaml planes.j
   check "run --report-dir wrote $f" test -s "$out/run_planes/$f"
 done
 check "run --report-dir wrote keyframe overlays" \
-  test "$(find "$out/run_planes/keyframes" -name '*.png' | wc -l)" -ge 1
+  test "$(find "$out/run_planes/keyframes" -name '*.jpg' | wc -l)" -ge 1
 check "VO report folder has no plane map" test ! -e "$out/run_vo/planes.json"
 run_step report "$planeloc" report --run "$out/run_planes" --compare "$out/run_vo" \
   --gt "$poses" --out "$out/report.html"
@@ -77,7 +82,7 @@ check "the 3-D view has WebGL (data-view3d=1)" grep -q 'data-view3d="1"' "$dom"
 plots=$(grep -o 'data-plots="[0-9]*"' "$dom" | grep -o '[0-9]*' || echo 0)
 check "at least 8 plots drawn (drew ${plots:-0})" test "${plots:-0}" -ge 8
 check "summary table with both runs" grep -q '<th style="color: rgb(46, 134, 222);">VO (no planes)</th>' "$dom"
-check "keyframe images inlined" grep -q 'src="data:image/png;base64,' "$dom"
+check "keyframe images inlined" grep -q 'src="data:image/jpeg;base64,' "$dom"
 # Console messages are logged as "...:INFO:CONSOLE:line] "message", source: ..."; Chromium 156
 # logs every console level as INFO, so uncaught exceptions are recognised by their text
 # ("Uncaught TypeError: ...") and console.error calls by the page's own count (data-errors).
@@ -89,7 +94,7 @@ rect=$(grep -o 'data-canvas-rect="[0-9,.-]*"' "$dom" | grep -o '[0-9,.-]*' | tai
 check "the 3-D canvas reported its place ($rect)" test -n "$rect"
 if [ -n "$rect" ] && [ -s "$out/report.png" ]; then
   # The canvas region must be drawn: a flat clear colour has no spread and one colour.
-  stats=$(python3 - "$out/report.png" "$rect" <<'EOF'
+  stats=$("$python" - "$out/report.png" "$rect" <<'EOF'
 import sys
 from PIL import Image, ImageStat
 image = Image.open(sys.argv[1]).convert("RGB")
@@ -104,9 +109,9 @@ EOF
 )
   read -r stddev colours below <<<"$stats"
   echo "     canvas region ${rect}: pixel stddev ${stddev}, ${colours} colours; below it stddev ${below}"
-  check "3-D canvas drawn (pixel stddev ${stddev} > 6)" python3 -c "import sys; sys.exit(0 if $stddev > 6 else 1)"
+  check "3-D canvas drawn (pixel stddev ${stddev} > 6)" "$python" -c "import sys; sys.exit(0 if $stddev > 6 else 1)"
   check "3-D canvas drawn (${colours} colours > 200)" test "$colours" -gt 200
-  check "plots drawn below the 3-D view (stddev ${below} > 10)" python3 -c "import sys; sys.exit(0 if $below > 10 else 1)"
+  check "plots drawn below the 3-D view (stddev ${below} > 10)" "$python" -c "import sys; sys.exit(0 if $below > 10 else 1)"
 fi
 [ "$fail" -eq 0 ] && echo "report browser test: all passed (report: $out/report.html)"
 exit "$fail"

@@ -243,17 +243,20 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
   out["settings"] = ReadIfExists(dir / "settings.yaml").value_or("");
 
   json images = json::array();
-  std::vector<fs::path> pngs;
+  std::vector<fs::path> files;
   if (fs::is_directory(dir / "keyframes", error)) {
     for (const auto& entry : fs::directory_iterator(dir / "keyframes", error)) {
-      if (entry.path().extension() == ".png") pngs.push_back(entry.path());
+      const std::string extension = entry.path().extension().string();
+      if (extension == ".png" || extension == ".jpg") files.push_back(entry.path());
     }
   }
-  std::sort(pngs.begin(), pngs.end());
-  for (const fs::path& png : pngs) {
-    const std::optional<std::string> bytes = ReadIfExists(png);
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    const std::optional<std::string> bytes = ReadIfExists(file);
     if (!bytes) continue;
-    images.push_back({{"name", png.stem().string()}, {"png", Base64(*bytes)}});
+    images.push_back({{"name", file.stem().string()},
+                      {"mime", file.extension() == ".png" ? "image/png" : "image/jpeg"},
+                      {"data", Base64(*bytes)}});
   }
   out["images"] = images;
   return run;

@@ -7,11 +7,12 @@
 //   summary.json    the end-of-run summary (<stats>.summary.json)
 //   settings.yaml   the effective settings (<out>.config.yaml)
 //   planes.json     the plane map the run used (plane mode only)
-//   keyframes/*.png a few keyframe overlays (LSD segments, plane outlines, features by plane)
+//   keyframes/*.jpg a few keyframe overlays (LSD segments, plane outlines, features by plane;
+//                   .png is read too)
 // Only trajectory.txt is required; a missing optional file leaves its part of the report out.
 //
 // The HTML inlines everything it shows: the data as JSON, three.js (Debian's libjs-three) for the
-// 3-D view, the keyframe images as base64 PNG, so it opens offline and fetches nothing.
+// 3-D view, the keyframe images as base64, so it opens offline and fetches nothing.
 #pragma once
 
 #include <Eigen/Core>

@@ -141,7 +141,8 @@ TEST_F(ReportFolderTest, ErrorsStatsAndTrackingSeries) {
   EXPECT_EQ(run["summary"]["frames"], 4);
   ASSERT_EQ(run["images"].size(), 1u);
   EXPECT_EQ(run["images"][0]["name"], "keyframe_000002");
-  EXPECT_EQ(run["images"][0]["png"], "Zm9v");
+  EXPECT_EQ(run["images"][0]["mime"], "image/png");
+  EXPECT_EQ(run["images"][0]["data"], "Zm9v");
 }
 
 TEST_F(ReportFolderTest, CompareRunShorterThanGtIsPairedOverItsFrames) {

@@ -66,21 +66,25 @@ void CopyInto(const std::filesystem::path& from, const std::filesystem::path& to
   WriteFileWhole(to, ReadWhole(from));
 }
 
-// Up to `count` keyframes spread over the run, where the pose is in the plane map's frame (after
-// the map lock, or any keyframe without a registration).
+// Up to `count` keyframes spread over the run. Preferably where the pose is in the plane map's
+// frame (after the map lock, or every keyframe without a registration); a run that never locked
+// shows its keyframes in the frame of the initial pose (the overlay then shows how far off it is).
 std::vector<int> OverlayFrames(const std::vector<FrameStats>& stats, int count) {
-  std::vector<int> candidates;
-  for (const FrameStats& s : stats) {
-    if (s.keyframe && !s.skipped && (s.map_lock.empty() || s.map_lock == "locked")) {
-      candidates.push_back(s.frame);
-    }
-  }
+  // 0: in the map frame (locked, or no registration), 1: partly, 2: not yet.
+  const auto rank = [](const std::string& lock) {
+    return lock.empty() || lock == "locked" ? 0 : lock == "partial" ? 1 : 2;
+  };
   std::vector<int> frames;
-  if (candidates.empty() || count <= 0) return frames;
-  const int n = std::min<int>(count, candidates.size());
-  for (int k = 0; k < n; ++k) {
-    const int index = static_cast<int>((k + 0.5) * candidates.size() / n);
-    frames.push_back(candidates[std::min<std::size_t>(index, candidates.size() - 1)]);
+  for (int accepted = 0; accepted <= 2 && frames.empty() && count > 0; ++accepted) {
+    std::vector<int> candidates;
+    for (const FrameStats& s : stats) {
+      if (s.keyframe && !s.skipped && rank(s.map_lock) <= accepted) candidates.push_back(s.frame);
+    }
+    const int n = std::min<int>(count, candidates.size());
+    for (int k = 0; k < n; ++k) {
+      const int index = static_cast<int>((k + 0.5) * candidates.size() / n);
+      frames.push_back(candidates[std::min<std::size_t>(index, candidates.size() - 1)]);
+    }
   }
   return frames;
 }
@@ -177,10 +181,15 @@ void WriteReportFolder(const RunOptions& run, const RunSummary& summary,
     const cv::Mat overlay =
         DrawKeyframeOverlay(pair.left, pair.right, summary.camera, summary.world_from_cam[frame],
                             plane_map, summary.options, &counts);
-    std::vector<uchar> png;
-    cv::imencode(".png", overlay, png, {cv::IMWRITE_PNG_COMPRESSION, 9});
-    WriteFileWhole(dir / "keyframes" / fmt::format("keyframe_{:06d}.png", frame),
-                   std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+    // JPEG: a third of the PNG's size for a photo, and the report inlines every image.
+    std::vector<uchar> jpeg;
+    cv::imencode(".jpg", overlay, jpeg, {cv::IMWRITE_JPEG_QUALITY, 88});
+    // The map lock in the name: the report's caption says where the pose stood.
+    const std::string& lock = summary.stats[frame].map_lock;
+    const std::string name =
+        fmt::format("keyframe_{:06d}{}.jpg", frame, lock.empty() ? "" : "_map_lock_" + lock);
+    WriteFileWhole(dir / "keyframes" / name,
+                   std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
   }
 }
 
