@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -54,10 +55,12 @@ struct PlotEstimate {
   EvalReport report;
 };
 
-// The legend names the alignment only when there was one.
-std::string PlotLabel(const PlotEstimate& estimate) {
+// The legend names the alignment only when there was one; `full_path`: the path as given, for
+// estimates whose file names are the same (run_planes/trajectory.txt, run_vo/trajectory.txt).
+std::string PlotLabel(const PlotEstimate& estimate, bool full_path) {
   const Sim3Alignment& a = estimate.report.ape.alignment;
-  std::string label = std::filesystem::path(estimate.path).filename().string();
+  std::string label =
+      full_path ? estimate.path : std::filesystem::path(estimate.path).filename().string();
   if (a.type == AlignmentType::kSim3) {
     label += fmt::format(" (aligned sim3, scale {:.4f})", a.scale);
   } else if (a.type == AlignmentType::kSe3) {
@@ -124,10 +127,16 @@ void WritePlot(const EvalArgs& args, const std::vector<PlotEstimate>& estimates,
   const std::filesystem::path script = FindPlotScript();
   const TempDir temp("planeloc-eval");
   std::vector<std::string> csv_args;
+  std::set<std::string> names;
+  for (const PlotEstimate& estimate : estimates) {
+    names.insert(std::filesystem::path(estimate.path).filename().string());
+  }
+  const bool full_paths = names.size() < estimates.size();
   for (std::size_t i = 0; i < estimates.size(); ++i) {
     const std::filesystem::path csv = temp.path() / fmt::format("plot{}.csv", i);
     WritePlotCsv(csv, estimates[i].inputs, estimates[i].report);
-    csv_args.insert(csv_args.end(), {"--csv", csv.string(), "--label", PlotLabel(estimates[i])});
+    csv_args.insert(csv_args.end(),
+                    {"--csv", csv.string(), "--label", PlotLabel(estimates[i], full_paths)});
   }
   std::string plane = ToString(options.plane);
   if (options.plane == ProjectionPlane::kNone) {

@@ -119,8 +119,12 @@ cv::Mat DrawKeyframeOverlay(const cv::Mat& left, const cv::Mat& right, const Ste
     }
   }
   const std::string caption =
-      fmt::format("{} features, {} with depth, {} on planes | {} LSD segments | {} planes in view",
-                  n.features, n.with_depth, n.on_planes, n.segments, n.planes_in_view);
+      map != nullptr ? fmt::format(
+                           "{} features, {} with depth, {} on planes | {} LSD segments | {} planes "
+                           "in view",
+                           n.features, n.with_depth, n.on_planes, n.segments, n.planes_in_view)
+                     : fmt::format("{} features, {} with depth | {} LSD segments (no plane map)",
+                                   n.features, n.with_depth, n.segments);
   cv::rectangle(image, cv::Rect(0, 0, image.cols, 22), cv::Scalar(20, 20, 20), cv::FILLED);
   cv::putText(image, caption, cv::Point(8, 16), cv::FONT_HERSHEY_SIMPLEX, 0.45,
               cv::Scalar(235, 235, 235), 1, cv::LINE_AA);
