@@ -61,7 +61,7 @@ json Rounded(const std::vector<double>& values) {
 // KITTI (12 numbers a line) or TUM (8) by the first pose line, as `run --init-pose-from` does.
 TrajectoryFormat DetectFormat(const fs::path& path) {
   std::ifstream in(path);
-  CheckInput(static_cast<bool>(in), path.string(), 0, "cannot read the pose file",
+  CheckInput(static_cast<bool>(in), path.string(), 0, "--gt: cannot read the pose file",
              "pass a KITTI or TUM pose file that exists");
   std::string line;
   while (std::getline(in, line)) {
