@@ -155,6 +155,28 @@ struct LoadedRun {
   TrajectoryFormat format = TrajectoryFormat::kKitti;
 };
 
+// One line of stats.jsonl into the series the page plots. Throws json::exception for a field
+// of the wrong type.
+void AddStatsLine(const json& s, json* frames, json* timing, json* kf, json* ba, json* lock) {
+  const int frame = s.at("frame").get<int>();
+  frames->push_back(frame);
+  const json ms = s.value("ms", json::object());
+  for (const char* stage : {"extract", "track", "local_map", "ba"}) {
+    (*timing)[stage].push_back(Round4(ms.value(stage, 0.0)));
+  }
+  if (s.value("keyframe", false)) {
+    (*kf)["frame"].push_back(frame);
+    (*kf)["tracked_points"].push_back(s.value("tracked_points", 0));
+    (*kf)["planes_disabled"].push_back(
+        s.contains("planes_disabled") ? json(s["planes_disabled"].get<int>()) : json(nullptr));
+  }
+  if (s.contains("ba_plane_residuals")) {
+    (*ba)["frame"].push_back(frame);
+    (*ba)["plane_residuals"].push_back(s["ba_plane_residuals"].get<int>());
+  }
+  lock->push_back(s.value("map_lock", ""));
+}
+
 LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
   std::error_code error;
   CheckInput(fs::is_directory(dir, error), dir.string(), 0,
@@ -166,6 +188,11 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
     meta = json::parse(*text, nullptr, /*allow_exceptions=*/false);
     CheckInput(meta.is_object(), (dir / "run.json").string(), 0, "not a JSON object",
                "re-run `planeloc run --report-dir` to rewrite the folder");
+    for (const char* key : {"mode", "sequence", "format"}) {
+      CheckInput(!meta.contains(key) || meta[key].is_string(), (dir / "run.json").string(), 0,
+                 fmt::format("\"{}\" is not a string", key),
+                 "re-run `planeloc run --report-dir` to rewrite the folder");
+    }
   }
   if (meta.contains("format") && meta["format"].is_string()) {
     run.format = ParseTrajectoryFormat(meta["format"].get<std::string>());
@@ -197,7 +224,6 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
   json ba = {{"frame", json::array()}, {"plane_residuals", json::array()}};
   json lock = json::array();
   json frames = json::array();
-  bool any_lock = false;
   if (std::optional<std::string> text = ReadIfExists(dir / "stats.jsonl")) {
     std::istringstream lines(*text);
     std::string line;
@@ -209,27 +235,17 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
       CheckInput(s.is_object() && s.contains("frame"), (dir / "stats.jsonl").string(), number,
                  "not a stats line of `planeloc run`",
                  "re-run `planeloc run --report-dir` to rewrite the folder");
-      const int frame = s.value("frame", 0);
-      frames.push_back(frame);
-      const json ms = s.value("ms", json::object());
-      for (const char* stage : {"extract", "track", "local_map", "ba"}) {
-        timing[stage].push_back(Round4(ms.value(stage, 0.0)));
+      try {
+        AddStatsLine(s, &frames, &timing, &kf, &ba, &lock);
+      } catch (const json::exception& e) {
+        throw InputError((dir / "stats.jsonl").string(), number,
+                         fmt::format("a field has the wrong type ({})", e.what()),
+                         "re-run `planeloc run --report-dir` to rewrite the folder");
       }
-      if (s.value("keyframe", false)) {
-        kf["frame"].push_back(frame);
-        kf["tracked_points"].push_back(s.value("tracked_points", 0));
-        kf["planes_disabled"].push_back(s.contains("planes_disabled") ? s["planes_disabled"]
-                                                                      : json(nullptr));
-      }
-      if (s.contains("ba_plane_residuals")) {
-        ba["frame"].push_back(frame);
-        ba["plane_residuals"].push_back(s["ba_plane_residuals"]);
-      }
-      const std::string state = s.value("map_lock", "");
-      any_lock = any_lock || !state.empty();
-      lock.push_back(state);
     }
   }
+  bool any_lock = false;
+  for (const json& state : lock) any_lock = any_lock || !state.get<std::string>().empty();
   out["frames"] = frames;
   out["timing"] = timing;
   out["keyframes"] = kf;

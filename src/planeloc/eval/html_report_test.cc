@@ -198,6 +198,20 @@ TEST_F(ReportFolderTest, MissingThreeJsNamesThePackage) {
   }
 }
 
+TEST_F(ReportFolderTest, StatsFieldOfTheWrongTypeNamesTheLine) {
+  Write(run_ / "stats.jsonl", "{\"frame\":0}\n{\"frame\":1,\"keyframe\":\"yes\"}\n");
+  try {
+    BuildReportData(options_);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(e.path().find("stats.jsonl"), std::string::npos);
+  }
+  Write(run_ / "stats.jsonl", "");
+  Write(run_ / "run.json", R"({"mode": 3})");
+  EXPECT_THROW(BuildReportData(options_), InputError);
+}
+
 TEST_F(ReportFolderTest, FolderWithoutTrajectoryIsAnInputError) {
   fs::remove(run_ / "trajectory.txt");
   EXPECT_THROW(BuildReportData(options_), InputError);
