@@ -2,6 +2,7 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <spawn.h>
+#include <spdlog/spdlog.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -43,7 +45,29 @@ struct EvalArgs {
   bool kitti_drift = false;
   std::string json;
   std::string plot;
+  std::vector<std::string> also_est;  // more estimates for --plot
 };
+
+// One estimate of the plot: its file, what it was paired with and its errors.
+struct PlotEstimate {
+  std::string path;
+  EvalInputs inputs;
+  EvalReport report;
+};
+
+// The legend names the alignment only when there was one; `full_path`: the path as given, for
+// estimates whose file names are the same (run_planes/trajectory.txt, run_vo/trajectory.txt).
+std::string PlotLabel(const PlotEstimate& estimate, bool full_path) {
+  const Sim3Alignment& a = estimate.report.ape.alignment;
+  std::string label =
+      full_path ? estimate.path : std::filesystem::path(estimate.path).filename().string();
+  if (a.type == AlignmentType::kSim3) {
+    label += fmt::format(" (aligned sim3, scale {:.4f})", a.scale);
+  } else if (a.type == AlignmentType::kSe3) {
+    label += " (aligned se3)";
+  }
+  return label + fmt::format(", APE rmse {:.3f} m", estimate.report.ape.stats.rmse);
+}
 
 // tools/plot_trajectory.py: $PLANELOC_TOOLS_DIR, then beside the build tree
 // (build/bin/../../tools), then the source tree this binary was built from.
@@ -98,21 +122,37 @@ int RunWithAggBackend(const std::vector<std::string>& argv, bool quiet) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
 }
 
-void WritePlot(const EvalArgs& args, const EvalInputs& inputs, const EvalOptions& options,
-               const EvalReport& report) {
+void WritePlot(const EvalArgs& args, const std::vector<PlotEstimate>& estimates,
+               const EvalOptions& options) {
   const std::filesystem::path script = FindPlotScript();
   const TempDir temp("planeloc-eval");
-  const std::filesystem::path csv = temp.path() / "plot.csv";
-  WritePlotCsv(csv, inputs, report);
+  std::vector<std::string> csv_args;
+  std::set<std::string> names;
+  for (const PlotEstimate& estimate : estimates) {
+    names.insert(std::filesystem::path(estimate.path).filename().string());
+  }
+  const bool full_paths = names.size() < estimates.size();
+  for (std::size_t i = 0; i < estimates.size(); ++i) {
+    const std::filesystem::path csv = temp.path() / fmt::format("plot{}.csv", i);
+    WritePlotCsv(csv, estimates[i].inputs, estimates[i].report);
+    csv_args.insert(csv_args.end(),
+                    {"--csv", csv.string(), "--label", PlotLabel(estimates[i], full_paths)});
+  }
   std::string plane = ToString(options.plane);
   if (options.plane == ProjectionPlane::kNone) {
     // KITTI camera frames have the ground in x-z; TUM files are usually z-up.
     plane = options.format == TrajectoryFormat::kKitti ? "xz" : "xy";
   }
-  const std::string title = fmt::format("{} vs {} (align {}, APE rmse {:.3f} m)",
-                                        std::filesystem::path(args.est).filename().string(),
-                                        std::filesystem::path(args.gt).filename().string(),
-                                        ToString(report.ape.alignment.type), report.ape.stats.rmse);
+  const EvalReport& report = estimates.front().report;
+  const std::string title =
+      estimates.size() == 1
+          ? fmt::format("{} vs {} (align {}, APE rmse {:.3f} m)",
+                        std::filesystem::path(args.est).filename().string(),
+                        std::filesystem::path(args.gt).filename().string(),
+                        ToString(report.ape.alignment.type), report.ape.stats.rmse)
+          : fmt::format("{} estimates vs {} (align {})", estimates.size(),
+                        std::filesystem::path(args.gt).filename().string(),
+                        ToString(report.ape.alignment.type));
   // The first python that imports matplotlib wins: a pyenv/venv `python3` on PATH often lacks it
   // while Debian's /usr/bin/python3 has python3-matplotlib. Probes are silent.
   std::vector<std::string> pythons = {"python3", "/usr/bin/python3"};
@@ -130,9 +170,11 @@ void WritePlot(const EvalArgs& args, const EvalInputs& inputs, const EvalOptions
     if (probe != 127) code = 3;  // python found, matplotlib missing
   }
   if (!chosen.empty()) {
-    code = RunWithAggBackend({chosen, script.string(), "--csv", csv.string(), "--out",
-                              temporary.string(), "--plane", plane, "--title", title},
-                             /*quiet=*/false);
+    std::vector<std::string> command = {chosen, script.string()};
+    command.insert(command.end(), csv_args.begin(), csv_args.end());
+    command.insert(command.end(),
+                   {"--out", temporary.string(), "--plane", plane, "--title", title});
+    code = RunWithAggBackend(command, /*quiet=*/false);
   }
   if (code != 0 && temporary != args.plot) {
     std::error_code ignored;
@@ -182,11 +224,15 @@ int Run(const EvalArgs& args) {
             "a time difference in seconds, >= 0", "e.g. --max-diff 0.01");
   CheckFlag(AtLeast(args.rpe_delta, 0.0), "--rpe-delta", args.rpe_delta,
             "a number >= 0 of --rpe-unit (frames or metres; 0 = no RPE)", "e.g. --rpe-delta 1");
-  CheckOutputPaths({{"--json", args.json}, {"--plot", args.plot}},
-                   {{"--gt", args.gt},
-                    {"--est", args.est},
-                    {"--gt-times", args.gt_times},
-                    {"--est-times", args.est_times}});
+  CheckInput(args.also_est.empty() || !args.plot.empty(), "", 0,
+             "--also-est adds estimates to the plot, and no --plot was given",
+             "add --plot FILE.png, or drop --also-est");
+  std::vector<FlagPath> input_paths = {{"--gt", args.gt},
+                                       {"--est", args.est},
+                                       {"--gt-times", args.gt_times},
+                                       {"--est-times", args.est_times}};
+  for (const std::string& also : args.also_est) input_paths.push_back({"--also-est", also});
+  CheckOutputPaths({{"--json", args.json}, {"--plot", args.plot}}, input_paths);
   const EvalOptions options = ToOptions(args);
   const EvalInputs inputs = LoadEvalInputs(args.gt, args.est, options);
   const EvalReport report = Evaluate(inputs, options);
@@ -194,7 +240,21 @@ int Run(const EvalArgs& args) {
   std::fflush(stdout);  // before --json /dev/stdout, which writes through its own stream
   if (!args.json.empty())
     WriteFileWhole(args.json, ReportToJson(inputs, options, report).dump(2) + '\n');
-  if (!args.plot.empty()) WritePlot(args, inputs, options, report);
+  if (!args.plot.empty()) {
+    std::vector<PlotEstimate> estimates = {{args.est, inputs, report}};
+    for (const std::string& also : args.also_est) {
+      // Same options as --est, except --est-times (those are the times of --est): KITTI files
+      // are paired line by line, TUM files by their own stamps.
+      EvalOptions also_options = options;
+      also_options.est_times.reset();
+      EvalInputs also_inputs = LoadEvalInputs(args.gt, also, also_options);
+      EvalReport also_report = Evaluate(also_inputs, also_options);
+      spdlog::info("--also-est {}: APE rmse {:.6f} m over {} poses (plotted, not in the table)",
+                   also, also_report.ape.stats.rmse, also_inputs.reference.size());
+      estimates.push_back({also, std::move(also_inputs), std::move(also_report)});
+    }
+    WritePlot(args, estimates, options);
+  }
   return 0;
 }
 
@@ -232,6 +292,10 @@ const CommandRegistrar kRegistrar("eval", [](CLI::App& app) -> CommandRunner {
                 "KITTI devkit drift over 100..800 m segments (t_rel %, r_rel deg/100m)");
   cmd->add_option("--json", args->json, "Write the statistics as JSON");
   cmd->add_option("--plot", args->plot, "Write a PNG: top view and APE over time (matplotlib)");
+  cmd->add_option("--also-est", args->also_est,
+                  "Another estimate to draw in --plot, evaluated with the same options "
+                  "(repeatable; printed to the log, not the table)")
+      ->allow_extra_args(false);
   return [args] { return Run(*args); };
 });
 

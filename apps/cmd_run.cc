@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -34,7 +35,19 @@ struct RunArgs {
   int threads = 0;
   std::string cameras = "auto";
   int frames = 0;
+  std::string report_dir;
 };
+
+// --report-dir: created when missing (its parent must exist, as for any output folder).
+void PrepareReportDir(const std::string& dir) {
+  std::error_code error;
+  if (std::filesystem::is_directory(dir, error)) return;
+  CheckOutputPaths({{"--report-dir", dir}});
+  std::filesystem::create_directory(dir, error);
+  CheckInput(!error, dir, 0,
+             fmt::format("--report-dir: cannot create the folder: {}", error.message()),
+             "pass a folder in a writable place");
+}
 
 int Run(const RunArgs& args) {
   if (args.planes.empty() && !args.no_planes) {
@@ -54,6 +67,7 @@ int Run(const RunArgs& args) {
                    {{"--init-pose-from", args.init_pose_from},
                     {"--planes", args.planes},
                     {"--config", args.config}});
+  if (!args.report_dir.empty()) PrepareReportDir(args.report_dir);
   RunOptions options;
   options.sequence = args.sequence;
   options.cameras = ParseCameraChoice(args.cameras);
@@ -67,7 +81,11 @@ int Run(const RunArgs& args) {
   if (!args.stats.empty()) {
     options.stats_path = args.stats;
     options.summary_path = args.stats + ".summary.json";
+  } else if (!args.report_dir.empty()) {
+    options.stats_path = std::filesystem::path(args.report_dir) / "stats.jsonl";
+    options.summary_path = std::filesystem::path(args.report_dir) / "summary.json";
   }
+  if (!args.report_dir.empty()) options.report_dir = args.report_dir;
   if (!args.config.empty()) options.settings_path = args.config;
   options.calibration_from_settings = args.calib_from_settings;
   if (!args.planes.empty()) options.planes_path = args.planes;
@@ -198,6 +216,9 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
       ->check(CLI::IsMember({"auto", "grey", "gray", "color", "colour"}))
       ->capture_default_str();
   cmd->add_option("--frames", args->frames, "Track only the first N frames (0 = all)");
+  cmd->add_option("--report-dir", args->report_dir,
+                  "Also write the folder `planeloc report` reads: trajectory, stats, settings, "
+                  "plane map and a few keyframe overlay images (created if missing)");
   return [args] { return Run(*args); };
 });
 

@@ -8,8 +8,11 @@ PACKAGES=(
   libopencv-dev libceres-dev libeigen3-dev libopen3d-dev libtbb-dev
   libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-matplotlib python3-numpy
+  python3 python3-matplotlib python3-numpy python3-pil
+  libjs-three chromium
 )
+# libjs-three: three.js, inlined into the pages of `planeloc report`. chromium and python3-pil:
+# tests/report_browser_test.sh opens such a page headless and measures its screenshot.
 
 missing=()
 for pkg in "${PACKAGES[@]}"; do

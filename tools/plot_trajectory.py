@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""Plot for `planeloc eval --plot`: top view of GT and aligned estimate, and APE over time.
+"""Plot for `planeloc eval --plot`: top view of GT and estimates, and APE over time.
 
-Input is the CSV written by planeloc (header `time|frame,gt_x,gt_y,gt_z,est_x,est_y,est_z,ape`).
+Input is one CSV per estimate written by planeloc (header
+`time|frame,gt_x,gt_y,gt_z,est_x,est_y,est_z,ape`; the GT is drawn from the first), each with a
+legend label (--label, in the same order; the CLI says "aligned" only when it aligned).
 Exit codes: 0 ok, 2 bad input, 3 matplotlib missing (the CLI turns 3 into an install hint).
 """
 import argparse
@@ -23,7 +25,8 @@ def read_csv(path):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--csv", required=True)
+    parser.add_argument("--csv", required=True, action="append")
+    parser.add_argument("--label", action="append", default=[])
     parser.add_argument("--out", required=True)
     parser.add_argument("--plane", choices=sorted(AXES), default="xz")
     parser.add_argument("--title", default="")
@@ -36,17 +39,21 @@ def main():
     except ImportError as error:
         print(f"plot_trajectory.py: matplotlib is not available: {error}", file=sys.stderr)
         return 3
-    try:
-        header, data = read_csv(args.csv)
-    except (OSError, ValueError, StopIteration) as error:
-        print(f"plot_trajectory.py: cannot read {args.csv}: {error}", file=sys.stderr)
-        return 2
+    runs = []
+    for path in args.csv:
+        try:
+            runs.append(read_csv(path))
+        except (OSError, ValueError, StopIteration) as error:
+            print(f"plot_trajectory.py: cannot read {path}: {error}", file=sys.stderr)
+            return 2
+    labels = args.label + [f"estimate {i + 1}" for i in range(len(args.label), len(runs))]
+    header, data = runs[0]
 
     a, b = AXES[args.plane]
     fig, (top, err) = plt.subplots(1, 2, figsize=(13, 5.5), gridspec_kw={"width_ratios": [1.1, 1]})
     top.plot(data["gt_" + NAMES[a]], data["gt_" + NAMES[b]], "k--", lw=1.2, label="ground truth")
-    top.plot(data["est_" + NAMES[a]], data["est_" + NAMES[b]], "C0-", lw=1.2,
-             label="estimate (aligned)")
+    for i, ((_, est), label) in enumerate(zip(runs, labels)):
+        top.plot(est["est_" + NAMES[a]], est["est_" + NAMES[b]], f"C{i}-", lw=1.2, label=label)
     if data["gt_" + NAMES[a]]:
         top.plot(data["gt_" + NAMES[a]][0], data["gt_" + NAMES[b]][0], "go", label="start")
     top.set_xlabel(f"{NAMES[a]} (m)")
@@ -57,7 +64,10 @@ def main():
     top.legend(loc="best")
 
     time_name = header[0]
-    err.plot(data[time_name], data["ape"], "C3-", lw=1.0)
+    for i, ((est_header, est), label) in enumerate(zip(runs, labels)):
+        err.plot(est[est_header[0]], est["ape"], f"C{i}-", lw=1.0, label=label)
+    if len(runs) > 1:
+        err.legend(loc="best")
     err.set_xlabel("time (s)" if time_name == "time" else "frame")
     err.set_ylabel("APE translation (m)")
     err.set_title("APE over time")

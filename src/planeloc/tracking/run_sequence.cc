@@ -10,9 +10,11 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "planeloc/io/plane_map.h"
+#include "planeloc/tracking/keyframe_overlay.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/progress.h"
 #include "planeloc/util/safe_file.h"
@@ -46,6 +48,45 @@ Rigid3d FromTwelve(const std::vector<double>& v, const std::string& source, int 
              "give a finite row-major 3x4 world_from_cam");
   CheckRotation(m.leftCols<3>(), source, line);  // io/trajectory.h: the pose files' tolerance
   return Rigid3d::FromMatrix3x4(m);
+}
+
+std::string ReadWhole(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  CheckInput(static_cast<bool>(in), path.string(), 0, "cannot read the file back for the report",
+             "check that the file was written and is readable");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Copies `from` into the report folder unless it was written there already.
+void CopyInto(const std::filesystem::path& from, const std::filesystem::path& to) {
+  std::error_code error;
+  if (std::filesystem::equivalent(from, to, error)) return;
+  WriteFileWhole(to, ReadWhole(from));
+}
+
+// Up to `count` keyframes spread over the run. Preferably where the pose is in the plane map's
+// frame (after the map lock, or every keyframe without a registration); a run that never locked
+// shows its keyframes in the frame of the initial pose (the overlay then shows how far off it is).
+std::vector<int> OverlayFrames(const std::vector<FrameStats>& stats, int count) {
+  // 0: in the map frame (locked, or no registration), 1: partly, 2: not yet.
+  const auto rank = [](const std::string& lock) {
+    return lock.empty() || lock == "locked" ? 0 : lock == "partial" ? 1 : 2;
+  };
+  std::vector<int> frames;
+  for (int accepted = 0; accepted <= 2 && frames.empty() && count > 0; ++accepted) {
+    std::vector<int> candidates;
+    for (const FrameStats& s : stats) {
+      if (s.keyframe && !s.skipped && rank(s.map_lock) <= accepted) candidates.push_back(s.frame);
+    }
+    const int n = std::min<int>(count, candidates.size());
+    for (int k = 0; k < n; ++k) {
+      const int index = static_cast<int>((k + 0.5) * candidates.size() / n);
+      frames.push_back(candidates[std::min<std::size_t>(index, candidates.size() - 1)]);
+    }
+  }
+  return frames;
 }
 
 struct EffectiveSettings {
@@ -100,6 +141,56 @@ EffectiveSettings Effective(const RunOptions& run, std::optional<SettingsFile> f
     options.ba.num_threads = options.num_threads;
   options.Check();
   return effective;
+}
+
+void WriteReportFolder(const RunOptions& run, const RunSummary& summary,
+                       const KittiSequence& sequence, const EffectiveSettings& effective,
+                       const PlaneMap* plane_map) {
+  namespace fs = std::filesystem;
+  const fs::path& dir = *run.report_dir;
+  nlohmann::json meta = {{"mode", plane_map ? "planes" : "vo"},
+                         {"sequence", run.sequence.string()},
+                         {"format", run.format == TrajectoryFormat::kKitti ? "kitti" : "tum"},
+                         {"frames", summary.frames}};
+  WriteFileWhole(dir / "run.json", meta.dump(2) + '\n');
+  CopyInto(run.trajectory_path, dir / "trajectory.txt");
+  if (run.stats_path) CopyInto(*run.stats_path, dir / "stats.jsonl");
+  if (run.summary_path) CopyInto(*run.summary_path, dir / "summary.json");
+  const fs::path settings = run.trajectory_path.string() + ".config.yaml";
+  if (run.write_effective_settings) CopyInto(settings, dir / "settings.yaml");
+  if (run.planes_path) CopyInto(*run.planes_path, dir / "planes.json");
+
+  const std::vector<int> frames = OverlayFrames(summary.stats, run.report_keyframe_images);
+  if (frames.empty()) return;
+  std::error_code error;
+  fs::create_directories(dir / "keyframes", error);
+  CheckInput(!error, (dir / "keyframes").string(), 0,
+             fmt::format("cannot create the folder: {}", error.message()),
+             "check that --report-dir is writable");
+  for (const int frame : frames) {
+    if (frame < 0 || static_cast<std::size_t>(frame) >= summary.world_from_cam.size()) continue;
+    StereoPair pair;
+    try {
+      pair = sequence.LoadStereoPair(frame);
+      if (effective.rectifier) pair = effective.rectifier->Rectify(pair);
+    } catch (const InputError& e) {
+      spdlog::warn("report: no overlay of keyframe {}: {}", frame, e.what());
+      continue;
+    }
+    KeyframeOverlayCounts counts;
+    const cv::Mat overlay =
+        DrawKeyframeOverlay(pair.left, pair.right, summary.camera, summary.world_from_cam[frame],
+                            plane_map, summary.options, &counts);
+    // JPEG: a third of the PNG's size for a photo, and the report inlines every image.
+    std::vector<uchar> jpeg;
+    cv::imencode(".jpg", overlay, jpeg, {cv::IMWRITE_JPEG_QUALITY, 88});
+    // The map lock in the name: the report's caption says where the pose stood.
+    const std::string& lock = summary.stats[frame].map_lock;
+    const std::string name =
+        fmt::format("keyframe_{:06d}{}.jpg", frame, lock.empty() ? "" : "_map_lock_" + lock);
+    WriteFileWhole(dir / "keyframes" / name,
+                   std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
+  }
 }
 
 }  // namespace
@@ -289,6 +380,9 @@ RunSummary RunSequence(const RunOptions& run) {
     out << summary.ToJson() << '\n';
     CheckInput(out.good(), run.summary_path->string(), 0, "cannot write the run summary",
                "check that the folder exists and is writable");
+  }
+  if (run.report_dir) {
+    WriteReportFolder(run, summary, sequence, effective, plane_map ? &*plane_map : nullptr);
   }
   return summary;
 }

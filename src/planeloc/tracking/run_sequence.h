@@ -38,6 +38,11 @@ struct RunOptions {
   // default. Unless exact, the run registers itself to the plane map (tracking/map_lock.h).
   StartPrior start_prior;
   bool write_effective_settings = true;  // <trajectory>.config.yaml
+  // The folder `planeloc report` reads (eval/html_report.h lists its files), written after the
+  // run: copies of the trajectory, stats, summary, effective settings and plane map, run.json,
+  // and overlays of up to report_keyframe_images keyframes (tracking/keyframe_overlay.h).
+  std::optional<std::filesystem::path> report_dir;
+  int report_keyframe_images = 4;
   bool deterministic = false;
   int threads = 0;     // 0: keep the settings' value
   int max_frames = 0;  // 0: all
