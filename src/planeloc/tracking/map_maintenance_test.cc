@@ -11,7 +11,9 @@
 
 #include "planeloc/tracking/frame.h"
 #include "planeloc/tracking/local_mapping.h"
+#include "planeloc/tracking/settings.h"
 #include "planeloc/tracking/test_camera.h"
+#include "planeloc/util/error.h"
 
 namespace planeloc {
 namespace {
@@ -229,7 +231,9 @@ TEST(PointFusionTest, DuplicatesAreMergedAndIdsStayValid) {
   // No keyframe names an erased point.
   for (const auto& [id, kf] : map.keyframes()) {
     for (const int point_id : kf.map_point_ids) {
-      if (point_id >= 0) EXPECT_TRUE(map.HasPoint(point_id)) << id;
+      if (point_id >= 0) {
+        EXPECT_TRUE(map.HasPoint(point_id)) << id;
+      }
     }
   }
   // Covisibility of the new keyframe counts the merged point: 21 shared with 0 and 1.
@@ -351,6 +355,21 @@ TEST(MapMaintenanceTest, LateBaResultSkipsErasedAndMergedIds) {
   EXPECT_EQ(stats.stale_points, 1);
   EXPECT_GT(stats.points, 0);
   EXPECT_LT((map.point(shared[0]).point_in_world - (points[0] + shift)).norm(), 1e-12);
+}
+
+TEST(MapMaintenanceTest, OptionsAreChecked) {
+  TrackerOptions options;
+  EXPECT_NO_THROW(options.Check());
+  // Forgetting inside the local map's reach (60 keyframes by default) is refused; 0 is "off".
+  options.maintenance.keep_keyframes = 59;
+  EXPECT_THROW(options.Check(), OptionsError);
+  options.maintenance.keep_keyframes = 0;
+  EXPECT_NO_THROW(options.Check());
+  options.maintenance.cull_redundant_ratio = 0;
+  EXPECT_THROW(options.Check(), OptionsError);
+  options.maintenance.cull_redundant_ratio = 0.9;
+  options.maintenance.fuse_radius = -1;
+  EXPECT_THROW(options.Check(), OptionsError);
 }
 
 }  // namespace
