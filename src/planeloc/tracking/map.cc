@@ -72,6 +72,45 @@ void SparseMap::ErasePoint(int point_id) {
   points_.erase(it);
 }
 
+std::vector<int> SparseMap::EraseKeyframe(int keyframe_id) {
+  const auto it = keyframes_.find(keyframe_id);
+  if (it == keyframes_.end()) return {};
+  std::vector<int> erased;
+  const std::vector<int> point_ids = it->second.map_point_ids;  // EraseObservation edits it
+  for (const int point_id : point_ids) {
+    if (point_id < 0 || !HasPoint(point_id)) continue;
+    EraseObservation(point_id, keyframe_id);
+    if (!HasPoint(point_id)) erased.push_back(point_id);
+  }
+  for (const auto& [other, weight] : it->second.covisibility) {
+    const auto neighbour = keyframes_.find(other);
+    if (neighbour != keyframes_.end()) neighbour->second.covisibility.erase(keyframe_id);
+  }
+  keyframes_.erase(it);
+  return erased;
+}
+
+void SparseMap::ReplacePoint(int keep_id, int drop_id) {
+  if (keep_id == drop_id || !HasPoint(keep_id) || !HasPoint(drop_id)) return;
+  const auto drop_it = points_.find(drop_id);
+  const MapPoint drop = std::move(drop_it->second);
+  points_.erase(drop_it);
+  MapPoint& keep = points_.at(keep_id);
+  for (const auto& [kf_id, keypoint] : drop.observations) {
+    Keyframe& kf = keyframes_.at(kf_id);
+    if (keep.observations.count(kf_id) > 0) {
+      kf.map_point_ids.at(keypoint) = -1;
+    } else {
+      kf.map_point_ids.at(keypoint) = keep_id;
+      keep.observations[kf_id] = keypoint;
+    }
+  }
+  keep.visible += drop.visible;
+  keep.found += drop.found;
+  keep.version = next_version_++;
+  UpdatePoint(keep_id);
+}
+
 void SparseMap::UpdatePoint(int point_id) {
   MapPoint& point = points_.at(point_id);
   UpdateDescriptor(point);

@@ -67,6 +67,16 @@ class SparseMap {
   // Removes the point and its observations.
   void ErasePoint(int point_id);
   void EraseObservation(int point_id, int keyframe_id);
+  // Removes a keyframe with its observations and covisibility edges; a point left without
+  // observers goes with it. Ids are never reused, so a late BA result that still names the
+  // keyframe or such a point skips it (ApplyWindowBa). Returns the ids of the erased points.
+  std::vector<int> EraseKeyframe(int keyframe_id);
+  // Merges point `drop` into `keep` (ORB-SLAM2 MapPoint::Replace): drop's observations move to
+  // keep, except in keyframes that already observe keep (there drop's keypoint is unlinked);
+  // visible/found counts add up; drop is erased. keep gets a new version stamp: a BA result
+  // solved before the merge (from keep's observations alone) must not overwrite it. The caller
+  // updates the covisibility of the keyframes involved.
+  void ReplacePoint(int keep, int drop);
 
   // Recomputes descriptor, normal and distance range from the observations.
   void UpdatePoint(int point_id);

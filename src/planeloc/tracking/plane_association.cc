@@ -262,6 +262,12 @@ std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& 
   return found;
 }
 
+void PlaneAssociator::ForgetPoint(int point_id) {
+  for (FlatPlane& flat : planes_) {
+    if (flat.distance_by_point.erase(point_id) > 0) flat.touched = true;
+  }
+}
+
 void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
   const Eigen::Vector3d& x = estimate.point_in_map;
   if (!x.allFinite() || !estimate.covariance.allFinite()) return;

@@ -139,6 +139,9 @@ class PlaneAssociator {
   // Records the signed distance of point `point_id` from the enabled planes around it (for the
   // bias statistics; the latest value per point counts). Call for every window point.
   void Record(int point_id, const PointEstimate& estimate);
+  // Drops the point's recorded distance (a point merged into another by map-point fusion: the
+  // survivor stands for both, and counting the duplicate would double its weight).
+  void ForgetPoint(int point_id);
   // Recomputes the statistics of the planes recorded since the last call, disables biased
   // ones (spdlog warn each) and warns once when the map looks wrong. `associations`: points
   // associated in the window just built. Returns the number of planes disabled by this call.

@@ -85,6 +85,15 @@ const std::vector<Key>& Keys() {
       I("Mapping.triangulationNeighbours", [](O& o) -> int& { return o.triangulation_neighbours; }),
       D("Mapping.minFoundRatio", [](O& o) -> double& { return o.min_found_ratio; }),
       I("Mapping.minPointObservations", [](O& o) -> int& { return o.min_point_observations; }),
+      B("Mapping.cullKeyframes", [](O& o) -> bool& { return o.maintenance.cull_keyframes; }),
+      D("Mapping.cullRedundantRatio",
+        [](O& o) -> double& { return o.maintenance.cull_redundant_ratio; }),
+      I("Mapping.cullMinObservers", [](O& o) -> int& { return o.maintenance.cull_min_observers; }),
+      I("Mapping.cullKeepNewest", [](O& o) -> int& { return o.maintenance.cull_keep_newest; }),
+      B("Mapping.fusePoints", [](O& o) -> bool& { return o.maintenance.fuse_points; }),
+      I("Mapping.fuseNeighbours", [](O& o) -> int& { return o.maintenance.fuse_neighbours; }),
+      D("Mapping.fuseRadius", [](O& o) -> double& { return o.maintenance.fuse_radius; }),
+      I("Mapping.keepKeyframes", [](O& o) -> int& { return o.maintenance.keep_keyframes; }),
       I("LocalBA.windowKeyframes", [](O& o) -> int& { return o.ba_window_keyframes; }),
       I("LocalBA.maxFixedKeyframes", [](O& o) -> int& { return o.ba_max_fixed_keyframes; }),
       I("LocalBA.iterations", [](O& o) -> int& { return o.ba.iterations; }),
@@ -288,6 +297,13 @@ void TrackerOptions::Check() const {
   map_lock.Check();
   Require(min_found_ratio >= 0 && min_found_ratio <= 1, "min_found_ratio must be in [0, 1]");
   Require(min_point_observations >= 1, "min_point_observations must be >= 1");
+  maintenance.Check();
+  // Forgetting must not reach into the keyframes that tracking and the BA still use.
+  Require(maintenance.keep_keyframes == 0 ||
+              maintenance.keep_keyframes >=
+                  std::max(max_local_keyframes, ba_window_keyframes_turn + ba_max_fixed_keyframes),
+          "maintenance.keep_keyframes must be 0 or >= max(max_local_keyframes, "
+          "ba_window_keyframes_turn + ba_max_fixed_keyframes)");
   Require(num_threads >= 1, "num_threads must be >= 1");
 }
 

@@ -20,6 +20,7 @@
 #include "planeloc/optim/pose_optimizer.h"
 #include "planeloc/optim/window_ba.h"
 #include "planeloc/tracking/map_lock.h"
+#include "planeloc/tracking/map_maintenance.h"
 #include "planeloc/tracking/plane_association.h"
 #include "planeloc/tracking/settings_camera.h"
 
@@ -96,6 +97,9 @@ struct TrackerOptions {
   // it has fewer than min_point_observations observers two keyframes after its creation.
   double min_found_ratio = 0.25;
   int min_point_observations = 2;  // ORB-SLAM2 stereo: <= 3 with stereo counting 2
+  // Keyframe culling, point fusion and forgetting keyframes far behind: bounded memory on long
+  // drives (map_maintenance.h; Mapping.cullKeyframes, Mapping.fusePoints, Mapping.keepKeyframes).
+  MapMaintenanceOptions maintenance;
 
   // Deterministic: local BA in line on the tracking thread (bit-identical runs).
   bool deterministic = false;

@@ -13,6 +13,7 @@
 #include "planeloc/tracking/ba_worker.h"
 #include "planeloc/tracking/keyframe_rule.h"
 #include "planeloc/tracking/local_mapping.h"
+#include "planeloc/tracking/map_maintenance.h"
 #include "planeloc/tracking/matcher.h"
 #include "planeloc/tracking/triangulation.h"
 
@@ -74,8 +75,10 @@ std::string FrameStats::ToJson() const {
 std::string BaCounts::ToJson() const {
   return fmt::format(
       "{{\"keyframes\":{},\"applied\":{},\"superseded\":{},\"discarded\":{},\"unusable\":{},"
-      "\"empty\":{},\"stale_keyframes\":{},\"stale_points\":{}}}",
-      keyframes, applied, superseded, discarded, unusable, empty, stale_keyframes, stale_points);
+      "\"empty\":{},\"stale_keyframes\":{},\"stale_points\":{},\"culled_keyframes\":{},"
+      "\"forgotten_keyframes\":{}}}",
+      keyframes, applied, superseded, discarded, unusable, empty, stale_keyframes, stale_points,
+      culled_keyframes, forgotten_keyframes);
 }
 
 Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
@@ -434,6 +437,7 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
     recent_point_ids_.insert(recent_point_ids_.end(), triangulated.begin(), triangulated.end());
     if (!triangulated.empty()) map_.UpdateConnections(kf_id);
   }
+  MaintainMap(kf_id);
   // The frame now observes what the keyframe observes (new points included).
   frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
   std::fill(frame.outlier.begin(), frame.outlier.end(), false);
@@ -488,6 +492,27 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
     locker_->OnKeyframe(map_, kf_id, camera_);
     ApplyLockResults(stats, &frame, /*wait=*/false);
   }
+}
+
+void Tracker::MaintainMap(int keyframe_id) {
+  const MapMaintenanceOptions& maintenance = options_.maintenance;
+  if (maintenance.fuse_points) {
+    const std::vector<int> dropped = FuseWithNeighbours(map_, keyframe_id, camera_, maintenance);
+    if (planes_) {
+      for (const int id : dropped) planes_->ForgetPoint(id);
+    }
+  }
+  // A keyframe whose BA still has to be built must exist then; the tracker's reference keyframe
+  // re-anchors the last frame after every BA.
+  std::set<int> keep = {keyframe_id};
+  if (deferred_ba_keyframe_) keep.insert(*deferred_ba_keyframe_);
+  if (reference_keyframe_id_ >= 0) keep.insert(reference_keyframe_id_);
+  if (maintenance.cull_keyframes) {
+    ba_counts_.culled_keyframes += static_cast<int>(
+        CullRedundantKeyframes(map_, keyframe_id, CloseDepth(), maintenance, keep).size());
+  }
+  ba_counts_.forgotten_keyframes +=
+      static_cast<int>(ForgetOldKeyframes(map_, maintenance, keep).size());
 }
 
 std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats) {

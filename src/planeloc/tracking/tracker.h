@@ -94,6 +94,9 @@ struct BaCounts {
   // since the window was built (a late result never undoes a newer change).
   int stale_keyframes = 0;
   int stale_points = 0;
+  // Map maintenance (map_maintenance.h): keyframes erased as redundant, and as too old.
+  int culled_keyframes = 0;
+  int forgotten_keyframes = 0;
   std::string ToJson() const;
 };
 
@@ -150,6 +153,8 @@ class Tracker {
   bool MappingIdle() const;
   // Inserts the keyframe and runs the mapping steps; fills ms_ba / reprojection stats.
   void InsertKeyframe(Frame& frame, FrameStats& stats);
+  // Point fusion, keyframe culling and forgetting after keyframe `keyframe_id` was inserted.
+  void MaintainMap(int keyframe_id);
   // The keyframe's BA window with its snapshot; std::nullopt (counted as empty) without
   // observations.
   std::optional<BaJob> MakeBaJob(int keyframe_id, FrameStats& stats);
