@@ -40,7 +40,10 @@ void VoxelAccumulator::Add(const Eigen::Vector3d& point, const Eigen::Vector3d* 
     if (all_colored_) raw_.colors.push_back(*color);
     return;
   }
-  const Eigen::Vector3d cell = (point / voxel_size_).array().floor();
+  // Clamped to +-2^62 voxels: converting a larger double to int64 is undefined behaviour (a
+  // finite point 1e30 m away with --voxel 0.1). Real maps are nowhere near.
+  constexpr double kMaxCell = 4611686018427387904.0;  // 2^62
+  const Eigen::Vector3d cell = (point / voxel_size_).array().floor().max(-kMaxCell).min(kMaxCell);
   Sum& sum = voxels_[Key{static_cast<std::int64_t>(cell.x()), static_cast<std::int64_t>(cell.y()),
                          static_cast<std::int64_t>(cell.z())}];
   sum.point += point;
