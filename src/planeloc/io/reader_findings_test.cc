@@ -99,7 +99,9 @@ TEST(ReaderFindingsTest, PlyAsciiTrailingElementCountsOverflow) {
 }
 
 // A finite point 1e300 m away with a voxel filter: its voxel index (1e300 / 0.25) does not fit
-// in 64 bits, and the conversion was undefined behaviour.
+// in 64 bits, and the conversion was undefined behaviour. With the index clamped to +-2^62, the
+// Z-order sort's offset from the lowest voxel (2^62 - -2^62) overflowed next (found by this
+// test in the sanitizer build).
 TEST(ReaderFindingsTest, VoxelIndexOfAFarPoint) {
   TempDir dir;
   const PointCloud cloud =

@@ -68,9 +68,13 @@ PointCloud VoxelAccumulator::Finish() {
       lo = {std::min(lo.x, key.x), std::min(lo.y, key.y), std::min(lo.z, key.z)};
     }
     for (const auto& [key, sum] : voxels_) {
-      const std::uint64_t morton = MortonKey3(static_cast<std::uint64_t>(key.x - lo.x),
-                                              static_cast<std::uint64_t>(key.y - lo.y),
-                                              static_cast<std::uint64_t>(key.z - lo.z));
+      // Unsigned differences: key - lo fits 64 unsigned bits, but not always 63 signed ones
+      // (voxel indices span +-2^62).
+      auto offset = [](std::int64_t k, std::int64_t low) {
+        return static_cast<std::uint64_t>(k) - static_cast<std::uint64_t>(low);
+      };
+      const std::uint64_t morton =
+          MortonKey3(offset(key.x, lo.x), offset(key.y, lo.y), offset(key.z, lo.z));
       sorted.emplace_back(morton, key, sum);
     }
     voxels_ = {};
