@@ -25,7 +25,12 @@ for target in "${targets[@]}"; do
   [[ " ${all_targets[*]} " == *" $target "* ]] || { echo "fuzz.sh: unknown target '$target'" >&2; usage; }
 done
 
-build_dir="$("$root/scripts/build_asan.sh")"
+# PLANELOC_FUZZ_NO_BUILD=1: use build-asan/ as it is (e.g. while another build of it runs).
+if [ "${PLANELOC_FUZZ_NO_BUILD:-0}" = 1 ]; then
+  build_dir="${PLANELOC_ASAN_BUILD_DIR:-$root/build-asan}"
+else
+  build_dir="$("$root/scripts/build_asan.sh")"
+fi
 # shellcheck source=scripts/sanitizer_env.sh
 source "$root/scripts/sanitizer_env.sh"
 jobs="${PLANELOC_JOBS:-$(nproc)}"
