@@ -12,7 +12,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 all_targets=(kitti_calib trajectory pcd_reader ply_reader xyz plane_map settings_reader)
 
 usage() {
-  sed -n '2,10p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2
+  sed -n '2,/^set /{/^#/p}' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2
   exit 2
 }
 [ $# -ge 1 ] || usage
@@ -63,7 +63,7 @@ for target in "${targets[@]}"; do
   work="$build_dir/fuzz/$target"
   fuzz_stat() { sed -n "s/^stat::$1: *//p" "$work/log" | tail -1; }
   result=clean
-  if grep -qE '^==[0-9]+==ERROR|^SUMMARY: |runtime error:|deadly signal' "$work/log"; then
+  if grep -qE '^==[0-9]+== ?ERROR|^SUMMARY: |runtime error:|deadly signal' "$work/log"; then
     result="FINDING (see $work/log)"
     status=1
   fi
