@@ -10,6 +10,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-numpy python3-pil
   libjs-three chromium
+  # clang and its sanitizer and libFuzzer runtimes: scripts/test.sh --sanitize, scripts/fuzz.sh.
+  clang libclang-rt-14-dev
 )
 # libjs-three: three.js, inlined into the pages of `planeloc report`. chromium and python3-pil:
 # tests/report_browser_test.sh opens such a page headless and measures its screenshot.

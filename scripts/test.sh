@@ -1,10 +1,36 @@
 #!/usr/bin/env bash
 # Set-up, build and run every test with ctest. Tests that need ../shared/data skip when it is
 # missing, unless PLANELOC_REQUIRE_SHARED_DATA=1 (CI), where they fail.
+#
+# Usage: scripts/test.sh [--sanitize] [ctest args...]
+#   --sanitize  build with clang, AddressSanitizer and UndefinedBehaviorSanitizer (and the fuzz
+#               targets) into build-asan/ (PLANELOC_ASAN_BUILD_DIR) and run the whole suite there;
+#               any sanitizer report fails its test (docs/reliability.md, "Sanitizers").
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+sanitize=0
+if [ "${1:-}" = "--sanitize" ]; then
+  sanitize=1
+  shift
+elif [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
+  sed -n '2,/^set /{/^#/p}' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  exit 0
+fi
+
 "$root/scripts/setup.sh"
-"$root/scripts/build.sh"
-build_dir="${PLANELOC_BUILD_DIR:-$root/build}"
+if [ "$sanitize" -eq 0 ]; then
+  "$root/scripts/build.sh"
+  build_dir="${PLANELOC_BUILD_DIR:-$root/build}"
+  cd "$build_dir"
+  ctest --output-on-failure -j "${PLANELOC_JOBS:-$(nproc)}" --timeout 900 "$@"
+  exit 0
+fi
+
+build_dir="$("$root/scripts/build_asan.sh")"
+# shellcheck source=scripts/sanitizer_env.sh
+source "$root/scripts/sanitizer_env.sh"
 cd "$build_dir"
-ctest --output-on-failure -j "${PLANELOC_JOBS:-$(nproc)}" --timeout 900 "$@"
+# Every test but format.clang_format, which runs clang-format over the sources and none of our
+# code (the plain run above checks it). --timeout only covers tests without their own TIMEOUT.
+ctest --output-on-failure -j "${PLANELOC_JOBS:-$(nproc)}" --timeout 1800 -LE '^format$' "$@"

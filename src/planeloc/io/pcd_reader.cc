@@ -206,7 +206,10 @@ class PcdReader {
                  kFixHeader);
     }
     CheckInput(h.width >= 0, name_, 0, "the .pcd header has no WIDTH line", kFixHeader);
-    CheckInput(h.width <= (1LL << 40) && h.height <= (1LL << 40), name_, h.width_line,
+    // The product too: two factors below 2^40 can overflow 64 bits.
+    CheckInput(h.width <= (1LL << 40) && h.height <= (1LL << 40) &&
+                   (h.height == 0 || h.width <= (1LL << 40) / h.height),
+               name_, h.width_line,
                fmt::format("WIDTH {} x HEIGHT {} is absurdly large", h.width, h.height),
                kFixHeader);
     const long long cells = h.width * h.height;
@@ -287,6 +290,13 @@ class PcdReader {
           const float as_float = static_cast<float>(packed);
           std::memcpy(&rgb, &as_float, sizeof(rgb));
         } else {
+          // Converting a double outside 32 bits to an integer is undefined behaviour.
+          if (!(packed >= 0.0 && packed <= 4294967295.0)) {
+            Fail(number,
+                 fmt::format("{} '{}' is not a packed 0xRRGGBB colour", h.fields[h.rgb].name,
+                             tokens[h.fields[h.rgb].value]),
+                 "fix or re-save the file");
+          }
           rgb = static_cast<std::uint32_t>(packed);
         }
       }
@@ -323,7 +333,9 @@ class PcdReader {
     }
     sink_.Reserve(static_cast<std::size_t>(points));
     constexpr std::size_t kChunk = 1 << 16;  // points read at a time
-    std::vector<unsigned char> buffer(kChunk * h.point_size);
+    // Never larger than the data: one point of a wide record (COUNT up to 10^6) times kChunk
+    // would be gigabytes.
+    std::vector<unsigned char> buffer(std::min<std::uintmax_t>(kChunk, points) * h.point_size);
     for (std::uintmax_t first = 0; first < points; first += kChunk) {
       const std::size_t n =
           static_cast<std::size_t>(std::min<std::uintmax_t>(kChunk, points - first));
@@ -360,6 +372,16 @@ class PcdReader {
       Fail(h.data_line,
            fmt::format("the compressed block is {} bytes but the file holds {} after the header",
                        compressed, data_bytes - 8),
+           kFixHeader);
+    }
+    // LZF turns at most 3 input bytes (a long back reference) into 264 output bytes; a header
+    // claiming more is corrupt, and checking before allocating keeps a forged size word from
+    // costing gigabytes.
+    if (uncompressed / 88 > compressed) {
+      Fail(h.data_line,
+           fmt::format("the compressed block of {} bytes cannot decompress to {} bytes (LZF "
+                       "expands at most 88 times)",
+                       compressed, uncompressed),
            kFixHeader);
     }
     std::vector<std::uint8_t> packed(compressed);

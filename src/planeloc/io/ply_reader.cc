@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <climits>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -250,7 +251,8 @@ class PlyReader {
     }
     long long rest = 0;
     for (std::size_t e = static_cast<std::size_t>(vertex_) + 1; e < elements_.size(); ++e) {
-      rest += elements_[e].count;
+      // Saturated: counts up to 2^63 - 1 each would overflow the sum.
+      rest = elements_[e].count > LLONG_MAX - rest ? LLONG_MAX : rest + elements_[e].count;
     }
     long long extra = 0;
     while (next_line()) ++extra;
@@ -305,7 +307,8 @@ class PlyReader {
     sink_.Reserve(static_cast<std::size_t>(count));
     const std::vector<PlyProperty>& props = vertex.properties;
     constexpr std::size_t kChunk = 1 << 16;
-    std::vector<unsigned char> buffer(kChunk * vertex.size);
+    // Never larger than the data (a vertex of many properties times kChunk is a lot).
+    std::vector<unsigned char> buffer(std::min<std::uintmax_t>(kChunk, count) * vertex.size);
     for (std::uintmax_t first = 0; first < count; first += kChunk) {
       const std::size_t n =
           static_cast<std::size_t>(std::min<std::uintmax_t>(kChunk, count - first));

@@ -40,7 +40,10 @@ void VoxelAccumulator::Add(const Eigen::Vector3d& point, const Eigen::Vector3d* 
     if (all_colored_) raw_.colors.push_back(*color);
     return;
   }
-  const Eigen::Vector3d cell = (point / voxel_size_).array().floor();
+  // Clamped to +-2^62 voxels: converting a larger double to int64 is undefined behaviour (a
+  // finite point 1e30 m away with --voxel 0.1). Real maps are nowhere near.
+  constexpr double kMaxCell = 4611686018427387904.0;  // 2^62
+  const Eigen::Vector3d cell = (point / voxel_size_).array().floor().max(-kMaxCell).min(kMaxCell);
   Sum& sum = voxels_[Key{static_cast<std::int64_t>(cell.x()), static_cast<std::int64_t>(cell.y()),
                          static_cast<std::int64_t>(cell.z())}];
   sum.point += point;
@@ -65,9 +68,13 @@ PointCloud VoxelAccumulator::Finish() {
       lo = {std::min(lo.x, key.x), std::min(lo.y, key.y), std::min(lo.z, key.z)};
     }
     for (const auto& [key, sum] : voxels_) {
-      const std::uint64_t morton = MortonKey3(static_cast<std::uint64_t>(key.x - lo.x),
-                                              static_cast<std::uint64_t>(key.y - lo.y),
-                                              static_cast<std::uint64_t>(key.z - lo.z));
+      // Unsigned differences: key - lo fits 64 unsigned bits, but not always 63 signed ones
+      // (voxel indices span +-2^62).
+      auto offset = [](std::int64_t k, std::int64_t low) {
+        return static_cast<std::uint64_t>(k) - static_cast<std::uint64_t>(low);
+      };
+      const std::uint64_t morton =
+          MortonKey3(offset(key.x, lo.x), offset(key.y, lo.y), offset(key.z, lo.z));
       sorted.emplace_back(morton, key, sum);
     }
     voxels_ = {};
