@@ -82,6 +82,13 @@ struct PlaneAssociationOptions {
   // The image-side check of the map at keyframes (crease_check.h: LSD segments against the
   // projected creases of the map; per-keyframe stats) (Planes.creaseCheck).
   bool crease_check = true;
+  // Threaded runs only (Planes.creaseCheckOnWorker): the check on the BA worker, at low priority,
+  // instead of on the frame thread. Off: on kitti07-like seed 1 (as fast as the frames decode)
+  // it made the frame path 1.3x faster (28-29 vs 21-24 fps) but let the frame thread outrun the
+  // BA (11-25 instead of 3-5 of ~200 keyframes superseded) and cost 1.15-1.3x in ATE
+  // (docs/crease-check.md). At camera rate (10 Hz) the worker has the time and it is the better
+  // choice.
+  bool crease_check_on_worker = false;
   // The crease gate (Planes.creaseGate, needs crease_check): a point is associated with a plane
   // only if its keypoint lies in the plane's image region and not across a confirmed crease
   // bounding it, in every checked keyframe observing it. Off: the ablation in

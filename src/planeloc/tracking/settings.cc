@@ -160,6 +160,8 @@ const std::vector<Key>& Keys() {
       D("MapLock.noiseInflation",
         [](O& o) -> double& { return o.map_lock.registration.noise_inflation; }),
       B("Planes.creaseCheck", [](O& o) -> bool& { return o.planes.crease_check; }),
+      B("Planes.creaseCheckOnWorker",
+        [](O& o) -> bool& { return o.planes.crease_check_on_worker; }),
       B("Planes.creaseGate", [](O& o) -> bool& { return o.planes.crease_gate; }),
       B("Planes.creaseGateRegion", [](O& o) -> bool& { return o.planes.crease.gate_region; }),
       B("Planes.creaseGateSide", [](O& o) -> bool& { return o.planes.crease.gate_side; }),

@@ -451,9 +451,9 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
     settle_until_keyframe_id_ = -1;
   }
   // The crease check needs this keyframe's image: taken now, even if its BA waits for the worker,
-  // and checked on the worker with the next BA job (threaded) or here (deterministic).
+  // and checked here or (Planes.creaseCheckOnWorker, threaded) queued on the worker.
   if (planes_ && (!locker_ || locker_->PlanesActive())) {
-    if (ba_worker_) {
+    if (ba_worker_ && options_.planes.crease_check_on_worker) {
       const cv::Mat image = planes_->CreaseCheckImage(left_pyramid_);
       if (!image.empty()) {
         ba_worker_->SubmitCreaseCheck(
