@@ -41,21 +41,8 @@ Frame FrameOf(const std::vector<Eigen::Vector3d>& points_in_world, const cv::Mat
   return frame;
 }
 
-cv::Mat RandomDescriptors(int n, std::mt19937& rng) {
-  cv::Mat d(n, 32, CV_8U);
-  std::uniform_int_distribution<int> byte(0, 255);
-  for (int r = 0; r < n; ++r) {
-    for (int c = 0; c < 32; ++c) d.at<uint8_t>(r, c) = static_cast<uint8_t>(byte(rng));
-  }
-  return d;
-}
-
-std::vector<Eigen::Vector3d> RandomPoints(int n, std::mt19937& rng) {
-  std::uniform_real_distribution<double> x(-6, 6), y(-2, 2), z(5, 15);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < n; ++i) points.emplace_back(x(rng), y(rng), z(rng));
-  return points;
-}
+using testing::RandomDescriptors;
+using testing::RandomPoints;
 
 Rigid3d Ahead(double metres) {
   return Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, -metres));

@@ -13,14 +13,7 @@ namespace {
 
 StereoCamera TestCamera() { return testing::RoundStereoCamera(); }
 
-cv::Mat RandomDescriptors(int n, std::mt19937& rng) {
-  cv::Mat d(n, 32, CV_8U);
-  std::uniform_int_distribution<int> byte(0, 255);
-  for (int r = 0; r < n; ++r) {
-    for (int c = 0; c < 32; ++c) d.at<uint8_t>(r, c) = static_cast<uint8_t>(byte(rng));
-  }
-  return d;
-}
+using testing::RandomDescriptors;
 
 // A keyframe seeing the world points at `cam_from_world`, mono (no right match) keypoints on
 // level 0, with the given descriptors.
