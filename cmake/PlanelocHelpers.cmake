@@ -61,7 +61,7 @@ function(planeloc_module)
                WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
       add_test(NAME ${ARG_NAME}.slow COMMAND ${target}_test --gtest_filter=${ARG_SLOW_TESTS}
                WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-      set_tests_properties(${ARG_NAME}.slow PROPERTIES LABELS "${ARG_NAME};slow" TIMEOUT 900)
+      set_tests_properties(${ARG_NAME}.slow PROPERTIES LABELS "${ARG_NAME};slow" TIMEOUT 1800)
     else()
       add_test(NAME ${ARG_NAME} COMMAND ${target}_test WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     endif()
