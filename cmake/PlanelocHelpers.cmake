@@ -1,6 +1,9 @@
-# planeloc_module(NAME name DEPS ...)
+# planeloc_module(NAME name DEPS ... [TEST_DEPS ...] [SLOW_TESTS gtest-filter])
 # One static library per folder of src/planeloc/: every *.cc that is not a *_test.cc belongs to it,
 # every *_test.cc goes into one GoogleTest binary `planeloc_<name>_test`, registered as one ctest.
+# SLOW_TESTS (a --gtest_filter pattern, e.g. "FooSimTest.*:BarSimTest.*") splits that ctest in
+# two: `<name>` runs the rest, `<name>.slow` (labels <name> and slow) runs the matching tests. The
+# sanitizer run in CI leaves the `slow` label out (docs/reliability.md, "Sanitizers").
 # Every *_fuzz.cc is a libFuzzer target `planeloc_<file>` linked to the module, built only with
 # PLANELOC_BUILD_FUZZ (scripts/fuzz.sh).
 # Globbing (CONFIGURE_DEPENDS) lets a module grow a file without touching CMake.
@@ -12,7 +15,7 @@ function(planeloc_compile_flags target)
 endfunction()
 
 function(planeloc_module)
-  cmake_parse_arguments(ARG "" "NAME" "DEPS;TEST_DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "NAME;SLOW_TESTS" "DEPS;TEST_DEPS" ${ARGN})
   set(dir ${CMAKE_CURRENT_SOURCE_DIR}/${ARG_NAME})
   file(GLOB srcs CONFIGURE_DEPENDS ${dir}/*.cc)
   file(GLOB tests CONFIGURE_DEPENDS ${dir}/*_test.cc)
@@ -53,7 +56,15 @@ function(planeloc_module)
     planeloc_compile_flags(${target}_test)
     # One ctest per module binary, not per test: suites share expensive fixtures (a rendered
     # synthetic sequence) through SetUpTestSuite, which per-test processes would redo each time.
-    add_test(NAME ${ARG_NAME} COMMAND ${target}_test WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    if(ARG_SLOW_TESTS)
+      add_test(NAME ${ARG_NAME} COMMAND ${target}_test --gtest_filter=-${ARG_SLOW_TESTS}
+               WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+      add_test(NAME ${ARG_NAME}.slow COMMAND ${target}_test --gtest_filter=${ARG_SLOW_TESTS}
+               WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+      set_tests_properties(${ARG_NAME}.slow PROPERTIES LABELS "${ARG_NAME};slow" TIMEOUT 1800)
+    else()
+      add_test(NAME ${ARG_NAME} COMMAND ${target}_test WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    endif()
     set_tests_properties(${ARG_NAME} PROPERTIES LABELS ${ARG_NAME} TIMEOUT 900)
   endif()
 endfunction()

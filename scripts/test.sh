@@ -2,17 +2,24 @@
 # Set-up, build and run every test with ctest. Tests that need ../shared/data skip when it is
 # missing, unless PLANELOC_REQUIRE_SHARED_DATA=1 (CI), where they fail.
 #
-# Usage: scripts/test.sh [--sanitize] [ctest args...]
-#   --sanitize  build with clang, AddressSanitizer and UndefinedBehaviorSanitizer (and the fuzz
-#               targets) into build-asan/ (PLANELOC_ASAN_BUILD_DIR) and run the whole suite there;
-#               any sanitizer report fails its test (docs/reliability.md, "Sanitizers").
+# Usage: scripts/test.sh [--sanitize [--skip-slow]] [ctest args...]
+#   --sanitize   build with clang, AddressSanitizer and UndefinedBehaviorSanitizer (and the fuzz
+#                targets) into build-asan/ (PLANELOC_ASAN_BUILD_DIR) and run the whole suite there;
+#                any sanitizer report fails its test (docs/reliability.md, "Sanitizers").
+#   --skip-slow  with --sanitize: leave out the tests labelled `slow` (the long synthetic-sequence
+#                suites, which the plain run covers), as CI does to stay in its time budget.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 sanitize=0
+exclude='^format$'
 if [ "${1:-}" = "--sanitize" ]; then
   sanitize=1
   shift
+  if [ "${1:-}" = "--skip-slow" ]; then
+    exclude='^(format|slow)$'
+    shift
+  fi
 elif [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
   sed -n '2,/^set /{/^#/p}' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 0
@@ -32,5 +39,6 @@ build_dir="$("$root/scripts/build_asan.sh")"
 source "$root/scripts/sanitizer_env.sh"
 cd "$build_dir"
 # Every test but format.clang_format, which runs clang-format over the sources and none of our
-# code (the plain run above checks it). --timeout only covers tests without their own TIMEOUT.
-ctest --output-on-failure -j "${PLANELOC_JOBS:-$(nproc)}" --timeout 1800 -LE '^format$' "$@"
+# code (the plain run above checks it), and with --skip-slow the `slow` ones. --timeout only
+# covers tests without their own TIMEOUT.
+ctest --output-on-failure -j "${PLANELOC_JOBS:-$(nproc)}" --timeout 1800 -LE "$exclude" "$@"
