@@ -162,8 +162,7 @@ std::vector<TilePlanes> CollectTiles(const TileIndex& index,
 int MergeAndWrite(const TiledPlanesArgs& args, const MapPlanesOptions& options,
                   const TileIndex& index, const std::vector<TilePlanes>& tiles,
                   const std::optional<PlaneMap>& gt, const PlaneMapEvalOptions& eval_options) {
-  const TileGrid grid(index.tiling);
-  MergedPlanes merged = MergeTilePlanes(tiles, grid, options);
+  MergedPlanes merged = MergeTilePlanes(tiles, options);
   PlaneMap& planes = merged.plane_map;
   planes.stats["options"] = MapOptionsToJson(options);
   planes.stats["tiling"] = {{"tile_size", index.tiling.tile_size},
@@ -176,9 +175,9 @@ int MergeAndWrite(const TiledPlanesArgs& args, const MapPlanesOptions& options,
   planes.frame.map_file = std::filesystem::absolute(args.tiles).lexically_normal().string();
   planes.frame.up = merged.up;
   planes.frame.up_source = merged.up_detected ? "detected" : "given";
-  spdlog::info("map planes: {} tiles merged into {} planes ({} joined across borders), up = "
+  spdlog::info("map planes: {} tiles merged into {} planes ({} of them joined from pieces), up = "
                "[{:.3f}, {:.3f}, {:.3f}] ({})",
-               tiles.size(), planes.planes.size(), planes.stats["border_groups"].get<int>(),
+               tiles.size(), planes.planes.size(), planes.stats["joined_groups"].get<int>(),
                merged.up.x(), merged.up.y(), merged.up.z(), planes.frame.up_source);
   if (gt) {
     const PlaneMapEvaluation evaluation = FinishPlaneMapEvaluation(

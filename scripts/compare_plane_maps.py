@@ -14,7 +14,23 @@ import json
 import math
 import sys
 
-import numpy as np
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def sub(a, b):
+    return [x - y for x, y in zip(a, b)]
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def unit(a):
+    n = math.sqrt(dot(a, a))
+    return [x / n for x in a]
 
 
 def load(path):
@@ -23,10 +39,9 @@ def load(path):
 
 
 def in_plane_basis(n):
-    helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    u = np.cross(n, helper)
-    u /= np.linalg.norm(u)
-    return u, np.cross(n, u)
+    helper = [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0]
+    u = unit(cross(n, helper))
+    return u, cross(n, u)
 
 
 def distance_to_polygon(q, ring):
@@ -39,9 +54,10 @@ def distance_to_polygon(q, ring):
             x = a[0] + (q[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
             if q[0] < x:
                 inside = not inside
-        ab = b - a
-        t = 0.0 if ab @ ab == 0 else min(1.0, max(0.0, (q - a) @ ab / (ab @ ab)))
-        best = min(best, float(np.linalg.norm(q - (a + t * ab))))
+        ab = sub(b, a)
+        t = 0.0 if dot(ab, ab) == 0 else min(1.0, max(0.0, dot(sub(q, a), ab) / dot(ab, ab)))
+        r = sub(q, [a[0] + t * ab[0], a[1] + t * ab[1]])
+        best = min(best, math.sqrt(dot(r, r)))
     return 0.0 if inside else best
 
 
@@ -63,17 +79,17 @@ def main():
         if u["area"] < args.min_area:
             continue
         checked += 1
-        n = np.array(u["normal"])
-        c = np.array(u["centroid"])
+        n = u["normal"]
+        c = u["centroid"]
         bu, bv = in_plane_basis(n)
-        ring = [np.array([p @ bu, p @ bv]) for p in map(np.array, u["polygon"])]
+        ring = [[dot(p, bu), dot(p, bv)] for p in u["polygon"]]
         hits = []
         for t in tiled:
-            tn = np.array(t["normal"])
-            angle = math.degrees(math.acos(min(1.0, abs(float(tn @ n)))))
-            offset = abs(float(tn @ c) + t["d"])
-            tc = np.array(t["centroid"])
-            near = len(ring) < 3 or distance_to_polygon(np.array([tc @ bu, tc @ bv]), ring) <= args.near
+            angle = math.degrees(math.acos(min(1.0, abs(dot(t["normal"], n)))))
+            offset = abs(dot(t["normal"], c) + t["d"])
+            tc = t["centroid"]
+            near = (len(ring) < 3 or
+                    distance_to_polygon([dot(tc, bu), dot(tc, bv)], ring) <= args.near)
             if angle < args.angle and offset < args.offset and near:
                 hits.append((t, angle, offset))
         if not hits:
@@ -93,7 +109,7 @@ def main():
         "matched": matched, "split": split, "worst_angle_deg": worst_angle,
         "worst_offset_m": worst_offset,
         "area_ratio_min": min(area_ratios, default=0.0),
-        "area_ratio_median": float(np.median(area_ratios)) if area_ratios else 0.0,
+        "area_ratio_median": sorted(area_ratios)[len(area_ratios) // 2] if area_ratios else 0.0,
     }
     print(json.dumps(summary))
     if args.json:

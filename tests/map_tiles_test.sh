@@ -10,7 +10,7 @@ set -uo pipefail
 planeloc="$1"
 src="$2"
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+[ -n "${KEEP_TMP:-}" ] || trap 'rm -rf "$tmp"' EXIT; echo "work dir: $tmp"
 fail=0
 check() {  # check DESCRIPTION COMMAND...
   local what="$1"; shift

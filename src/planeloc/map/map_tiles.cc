@@ -216,7 +216,7 @@ void TiledMapWriter::AddScan(const std::vector<Eigen::Vector3d>& points_in_velo,
   for (const TileKey& key : done) Close(key);
 }
 
-void TiledMapWriter::Close(const TileKey& key) {
+void TiledMapWriter::Close(const TileKey key) {  // by value: erased below
   auto it = open_.find(key);
   PointCloud tile = it->second.Finish();
   open_.erase(it);

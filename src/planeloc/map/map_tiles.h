@@ -105,7 +105,7 @@ class TiledMapWriter {
   std::size_t open_tiles() const { return open_.size(); }
 
  private:
-  void Close(const TileKey& key);
+  void Close(TileKey key);
 
   MapBuildOptions build_;
   TileGrid grid_;

@@ -57,56 +57,76 @@ bool SamePlane(const TilePiece& a, const TilePiece& b, const PlaneExtractionOpti
          std::abs(pb.SignedDistance(a.core_mean)) <= options.merge_distance;
 }
 
-// Step 2: union-find over the pieces, joined across borders.
-std::vector<int> JoinAcrossBorders(const std::vector<PieceRef>& pieces,
-                                   const std::vector<TilePlanes>& tiles, const TileGrid& grid,
-                                   const MapPlanesOptions& options) {
-  const double radius = options.tensor_voting.radius();
-  struct CellHash {
-    std::size_t operator()(const Eigen::Vector3i& c) const {
-      return (static_cast<std::size_t>(c.x()) * 73856093u) ^
-             (static_cast<std::size_t>(c.y()) * 19349663u) ^
-             (static_cast<std::size_t>(c.z()) * 83492791u);
-    }
-  };
-  auto cell_of = [radius](const Eigen::Vector3d& p) {
-    return Eigen::Vector3i((p / radius).array().floor().cast<int>());
-  };
-  // Samples within the radius of their core's edge: the only ones that can touch another tile.
-  std::unordered_map<Eigen::Vector3i, std::vector<std::pair<int, Eigen::Vector3d>>, CellHash> cells;
-  for (std::size_t k = 0; k < pieces.size(); ++k) {
-    const TileKey& key = tiles[pieces[k].tile].key;
-    for (const auto& s : pieces[k].piece->samples) {
-      if (grid.DistanceToCoreEdge(key, s) <= radius) {
-        cells[cell_of(s)].emplace_back(static_cast<int>(k), s);
-      }
+struct CellHash {
+  std::size_t operator()(const Eigen::Vector3i& c) const {
+    return (static_cast<std::size_t>(c.x()) * 73856093u) ^
+           (static_cast<std::size_t>(c.y()) * 19349663u) ^
+           (static_cast<std::size_t>(c.z()) * 83492791u);
+  }
+};
+using Cells = std::unordered_map<Eigen::Vector3i, std::vector<std::pair<int, Eigen::Vector3d>>,
+                                 CellHash>;
+
+// True when a sample of `a` in cell `ca` lies within `radius` of a sample of `b` in cell `cb`.
+bool Touch(const std::vector<std::pair<int, Eigen::Vector3d>>& ca,
+           const std::vector<std::pair<int, Eigen::Vector3d>>& cb, int a, int b, double radius) {
+  for (const auto& [pa, sa] : ca) {
+    if (pa != a) continue;
+    for (const auto& [pb, sb] : cb) {
+      if (pb == b && (sa - sb).squaredNorm() <= radius * radius) return true;
     }
   }
-  std::vector<std::pair<int, int>> touching;
-  for (const auto& [cell, entries] : cells) {
-    for (const auto& [a, sa] : entries) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dz = -1; dz <= 1; ++dz) {
-            const auto it = cells.find(cell + Eigen::Vector3i(dx, dy, dz));
-            if (it == cells.end()) continue;
-            for (const auto& [b, sb] : it->second) {
-              if (b > a && pieces[b].tile != pieces[a].tile && (sa - sb).norm() <= radius) {
-                touching.emplace_back(a, b);
+  return false;
+}
+
+// Step 2: union-find over the pieces. Two pieces touch when samples of theirs lie within the
+// tensor-voting radius (the untiled merge's adjacency: a shared neighbourhood); pieces of one tile
+// are tested too, since the tile may have cut a plane the whole map would have kept in one piece.
+std::vector<int> JoinAdjacent(const std::vector<PieceRef>& pieces,
+                              const PlaneExtractionOptions& options, double radius) {
+  Cells cells;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    for (const auto& s : pieces[k].piece->samples) {
+      cells[Eigen::Vector3i((s / radius).array().floor().cast<int>())].emplace_back(k, s);
+    }
+  }
+  std::vector<int> parent(pieces.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::map<std::pair<int, int>, bool> same_plane;  // cached per piece pair
+  std::vector<const Cells::value_type*> order;      // cells in a fixed order: deterministic unions
+  for (const auto& entry : cells) order.push_back(&entry);
+  std::sort(order.begin(), order.end(), [](const auto* x, const auto* y) {
+    return std::lexicographical_compare(x->first.data(), x->first.data() + 3, y->first.data(),
+                                        y->first.data() + 3);
+  });
+  for (const auto* entry : order) {
+    std::vector<int> here;
+    for (const auto& [k, s] : entry->second) here.push_back(k);
+    std::sort(here.begin(), here.end());
+    here.erase(std::unique(here.begin(), here.end()), here.end());
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells.find(entry->first + Eigen::Vector3i(dx, dy, dz));
+          if (it == cells.end()) continue;
+          std::vector<int> there;
+          for (const auto& [k, s] : it->second) there.push_back(k);
+          std::sort(there.begin(), there.end());
+          there.erase(std::unique(there.begin(), there.end()), there.end());
+          for (const int a : here) {
+            for (const int b : there) {
+              if (b <= a || Find(parent, a) == Find(parent, b)) continue;
+              auto [cached, inserted] = same_plane.try_emplace({a, b}, false);
+              if (inserted) {
+                cached->second = SamePlane(*pieces[a].piece, *pieces[b].piece, options);
+              }
+              if (cached->second && Touch(entry->second, it->second, a, b, radius)) {
+                parent[Find(parent, a)] = Find(parent, b);
               }
             }
           }
         }
       }
-    }
-  }
-  std::sort(touching.begin(), touching.end());
-  touching.erase(std::unique(touching.begin(), touching.end()), touching.end());
-  std::vector<int> parent(pieces.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  for (const auto& [a, b] : touching) {
-    if (SamePlane(*pieces[a].piece, *pieces[b].piece, options.plane_extraction)) {
-      parent[Find(parent, a)] = Find(parent, b);
     }
   }
   return parent;
@@ -167,7 +187,7 @@ bool DescribeGroup(const std::vector<const TilePiece*>& group, const PlaneExtrac
 
 }  // namespace
 
-MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles, const TileGrid& grid,
+MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles,
                              const MapPlanesOptions& options) {
   for (std::size_t t = 0; t < tiles.size(); ++t) {
     if (!tiles[t].error.empty()) throw std::invalid_argument("MergeTilePlanes: a tile failed");
@@ -182,7 +202,7 @@ MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles, const TileGri
   for (std::size_t t = 0; t < tiles.size(); ++t) {
     for (const TilePiece& p : tiles[t].pieces) pieces.push_back({static_cast<int>(t), &p});
   }
-  std::vector<int> parent = JoinAcrossBorders(pieces, tiles, grid, options);
+  std::vector<int> parent = JoinAdjacent(pieces, pe, options.tensor_voting.radius());
   std::vector<std::vector<int>> groups(pieces.size());
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     groups[Find(parent, static_cast<int>(k))].push_back(static_cast<int>(k));
@@ -192,9 +212,12 @@ MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles, const TileGri
     std::vector<int> members;
   };
   std::vector<Candidate> planes;
-  std::size_t border_groups = 0;
+  std::size_t groups_joined = 0;
+  // In the order of their first piece (tile key, tile plane id), whatever the union order.
+  std::erase_if(groups, [](const std::vector<int>& g) { return g.empty(); });
+  std::sort(groups.begin(), groups.end(),
+            [](const auto& a, const auto& b) { return a.front() < b.front(); });
   for (const auto& members : groups) {
-    if (members.empty()) continue;
     Candidate c;
     c.members = members;
     const TilePiece& first = *pieces[members.front()].piece;
@@ -202,7 +225,7 @@ MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles, const TileGri
       c.plane = first.plane;
       c.plane.plane_in_map = OrientPlane(c.plane.plane_in_map, merged.up, pe.kind_angle_deg);
     } else {
-      border_groups += members.size() > 1;
+      groups_joined += members.size() > 1;
       std::vector<const TilePiece*> group;
       for (const int k : members) group.push_back(pieces[k].piece);
       if (!DescribeGroup(group, pe, merged.up, c.plane)) continue;
@@ -229,7 +252,7 @@ MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles, const TileGri
   stats["tiles"] = tiles.size();
   stats["points"] = points;
   stats["pieces"] = pieces.size();
-  stats["border_groups"] = border_groups;
+  stats["joined_groups"] = groups_joined;
   stats["planes"] = merged.plane_map.planes.size();
   stats["plane_points"] = plane_points;
   stats["up"] = {merged.up.x(), merged.up.y(), merged.up.z()};

@@ -2,10 +2,11 @@
 // plane map, as if the map had been processed whole.
 //
 //  1. up: the given one, or (detect_up) the up detected by most core points over the tiles;
-//  2. pieces of different tiles join (union-find) when they are adjacent across the border — a
-//     core sample of one within the tensor-voting radius of a core sample of the other — and lie
-//     on the same plane by the untiled patch-merge test (normals within merge_angle_deg, each
-//     core centroid within merge_distance of the other's plane);
+//  2. pieces join (union-find) when they are adjacent — a core sample of one within the
+//     tensor-voting radius of a core sample of the other, across a border or in one tile (a tile
+//     may cut a plane that the whole map keeps in one piece) — and lie on the same plane by the
+//     untiled patch-merge test (normals within merge_angle_deg, each core centroid within
+//     merge_distance of the other's plane);
 //  3. a piece alone and complete (all its inliers in its core) is kept as the tile extracted it;
 //     any other group is refitted from its pieces' core moments (total least squares), outlined
 //     from their samples (plane_outline.h) and checked against the extraction's min_inliers,
@@ -27,7 +28,7 @@
 namespace planeloc {
 
 struct MergedPlanes {
-  PlaneMap plane_map;  // stats: tiles, pieces, border_groups, planes, points, ...
+  PlaneMap plane_map;  // stats: tiles, pieces, joined_groups, planes, points, ...
   Eigen::Vector3d up = Eigen::Vector3d::Zero();
   bool up_detected = false;
   // (index in `tiles`, tile plane id) -> id in plane_map, for the pieces that made it.
@@ -35,7 +36,7 @@ struct MergedPlanes {
 };
 
 // `tiles` sorted by key, none failed. Throws std::invalid_argument otherwise.
-MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles, const TileGrid& grid,
+MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles,
                              const MapPlanesOptions& options);
 
 // Sums the tiles' GT tallies with their plane ids replaced by the merged ids.

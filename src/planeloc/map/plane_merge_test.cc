@@ -48,7 +48,7 @@ MergedPlanes RunTiled(const PointCloud& map, const MapPlanesOptions& options) {
     tiles.push_back(TilePlanes::FromJson(nlohmann::json::from_cbor(
         nlohmann::json::to_cbor(tile.ToJson()))));
   }
-  return MergeTilePlanes(tiles, grid, options);
+  return MergeTilePlanes(tiles, options);
 }
 
 TEST(MergeTilePlanesTest, TiledEqualsUntiledAndNothingIsSplit) {
@@ -59,7 +59,7 @@ TEST(MergeTilePlanesTest, TiledEqualsUntiledAndNothingIsSplit) {
   ASSERT_EQ(untiled.planes.size(), 3u);
   // The same planes, none split: the facade and the ground are one plane each.
   ASSERT_EQ(tiled.plane_map.planes.size(), untiled.planes.size());
-  EXPECT_GE(tiled.plane_map.stats["border_groups"].get<int>(), 2);
+  EXPECT_GE(tiled.plane_map.stats["joined_groups"].get<int>(), 2);
   for (const MapPlane& u : untiled.planes) {
     const MapPlane* match = nullptr;
     for (const MapPlane& t : tiled.plane_map.planes) {
@@ -84,16 +84,16 @@ TEST(MergeTilePlanesTest, DetectedUpIsTheMajorityOfTheTiles) {
   EXPECT_TRUE(tiled.up_detected);
   EXPECT_NEAR(tiled.up.z(), 1.0, 1e-9);
   for (const MapPlane& p : tiled.plane_map.planes) {
-    if (p.kind == "ground") EXPECT_GT(p.plane_in_map.normal.z(), 0.99);
+    if (p.kind == "ground") {
+      EXPECT_GT(p.plane_in_map.normal.z(), 0.99);
+    }
   }
 }
 
 TEST(MergeTilePlanesTest, RejectsFailedAndUnsortedTiles) {
   std::vector<TilePlanes> tiles(1);
   tiles[0].error = "boom";
-  TilingOptions tiling;
-  tiling.axes = {0, 1};
-  EXPECT_THROW(MergeTilePlanes(tiles, TileGrid(tiling), Options()), std::invalid_argument);
+  EXPECT_THROW(MergeTilePlanes(tiles, Options()), std::invalid_argument);
 }
 
 }  // namespace
