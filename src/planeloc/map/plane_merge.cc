@@ -79,8 +79,8 @@ bool Touch(const std::vector<std::pair<int, Eigen::Vector3d>>& ca,
   return false;
 }
 
-// Step 2: union-find over the pieces. Two pieces touch when samples of theirs lie within the
-// tensor-voting radius (the untiled merge's adjacency: a shared neighbourhood); pieces of one tile
+// Step 2: union-find over the pieces. Two pieces touch when samples of theirs lie within `radius`
+// (the untiled merge's adjacency: a shared neighbourhood, plus the sampling); pieces of one tile
 // are tested too, since the tile may have cut a plane the whole map would have kept in one piece.
 std::vector<int> JoinAdjacent(const std::vector<PieceRef>& pieces,
                               const PlaneExtractionOptions& options, double radius) {
@@ -202,7 +202,10 @@ MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles,
   for (std::size_t t = 0; t < tiles.size(); ++t) {
     for (const TilePiece& p : tiles[t].pieces) pieces.push_back({static_cast<int>(t), &p});
   }
-  std::vector<int> parent = JoinAdjacent(pieces, pe, options.tensor_voting.radius());
+  // Samples are cell centroids: each stands for points up to half a cell diagonal away, so two
+  // pieces whose points are a neighbourhood radius apart have samples up to a diagonal farther.
+  const double reach = options.tensor_voting.radius() + std::sqrt(3.0) * pe.outline.cell_size;
+  std::vector<int> parent = JoinAdjacent(pieces, pe, reach);
   std::vector<std::vector<int>> groups(pieces.size());
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     groups[Find(parent, static_cast<int>(k))].push_back(static_cast<int>(k));

@@ -3,7 +3,8 @@
 //
 //  1. up: the given one, or (detect_up) the up detected by most core points over the tiles;
 //  2. pieces join (union-find) when they are adjacent — a core sample of one within the
-//     tensor-voting radius of a core sample of the other, across a border or in one tile (a tile
+//     tensor-voting radius (+ one outline-cell diagonal, the sampling) of a core sample of the
+//     other, across a border or in one tile (a tile
 //     may cut a plane that the whole map keeps in one piece) — and lie on the same plane by the
 //     untiled patch-merge test (normals within merge_angle_deg, each core centroid within
 //     merge_distance of the other's plane);
