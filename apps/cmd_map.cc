@@ -120,7 +120,8 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
   CheckFlag(args.tiles.empty() || args.ply.empty(), "--ply", args.ply,
             "no --ply with --tiles (the labelled points stay in the tiles)", "drop --ply");
   const MapPlanesOptions options = PlanesOptions(args, sigma_given, voxel_given);
-  if (!args.tiles.empty()) return RunTiledPlanes({args.tiles, args.out, args.gt, args.frame}, options);
+  if (!args.tiles.empty())
+    return RunTiledPlanes({args.tiles, args.out, args.gt, args.frame}, options);
   CheckOutputPaths({{"--out", args.out}, {"--ply", args.ply}},
                    {{"--map", args.map}, {"--gt", args.gt}, {"--options", args.options_yaml}});
   // Voxel-filtered while reading: memory follows the voxels, not the points of the file.
@@ -200,8 +201,9 @@ CommandRunner SetupMap(CLI::App& app) {
                     "the scans (see `map tile`)");
   build->add_option("--tile-size", build_args->tiling.tile_size, "Tile side, metres (--tiles-out)")
       ->capture_default_str();
-  build->add_option("--overlap", build_args->tiling.overlap,
-                    "Band of neighbour points stored with each tile, metres (--tiles-out)")
+  build
+      ->add_option("--overlap", build_args->tiling.overlap,
+                   "Band of neighbour points stored with each tile, metres (--tiles-out)")
       ->capture_default_str();
   build->add_option("--voxel", build_args->options.voxel_size, "Voxel size, metres (0 = none)")
       ->capture_default_str();

@@ -100,10 +100,11 @@ int RunTile(const TileArgs& args) {
   }
   std::size_t largest = 0;
   for (const TileEntry& t : index.tiles) largest = std::max(largest, t.points);
-  spdlog::info("map tile: {} points -> {} tiles of {} m (+{} m overlap, axes {}) in {}, largest "
-               "{} points",
-               index.points, index.tiles.size(), index.tiling.tile_size, index.tiling.overlap,
-               fmt::join(index.tiling.axes, ","), args.out, largest);
+  spdlog::info(
+      "map tile: {} points -> {} tiles of {} m (+{} m overlap, axes {}) in {}, largest "
+      "{} points",
+      index.points, index.tiles.size(), index.tiling.tile_size, index.tiling.overlap,
+      fmt::join(index.tiling.axes, ","), args.out, largest);
   return 0;
 }
 
@@ -117,8 +118,8 @@ TilePlanes ProcessTile(const TileIndex& index, const TileEntry& entry,
     PointCloudReadOptions read_options;
     read_options.voxel_size = options.EffectiveVoxelSize();
     const PointCloud tile = ReadPointCloud(path, read_options);
-    TilePlanes result = ExtractTilePlanes(tile, entry.key, TileGrid(index.tiling), options, gt,
-                                          eval_options);
+    TilePlanes result =
+        ExtractTilePlanes(tile, entry.key, TileGrid(index.tiling), options, gt, eval_options);
     result.file = path.string();
     return result;
   } catch (const std::exception& e) {  // reported by rank 0 with the tile
@@ -175,19 +176,20 @@ int MergeAndWrite(const TiledPlanesArgs& args, const MapPlanesOptions& options,
   planes.frame.map_file = std::filesystem::absolute(args.tiles).lexically_normal().string();
   planes.frame.up = merged.up;
   planes.frame.up_source = merged.up_detected ? "detected" : "given";
-  spdlog::info("map planes: {} tiles merged into {} planes ({} of them joined from pieces), up = "
-               "[{:.3f}, {:.3f}, {:.3f}] ({})",
-               tiles.size(), planes.planes.size(), planes.stats["joined_groups"].get<int>(),
-               merged.up.x(), merged.up.y(), merged.up.z(), planes.frame.up_source);
+  spdlog::info(
+      "map planes: {} tiles merged into {} planes ({} of them joined from pieces), up = "
+      "[{:.3f}, {:.3f}, {:.3f}] ({})",
+      tiles.size(), planes.planes.size(), planes.stats["joined_groups"].get<int>(), merged.up.x(),
+      merged.up.y(), merged.up.z(), planes.frame.up_source);
   if (gt) {
-    const PlaneMapEvaluation evaluation = FinishPlaneMapEvaluation(
-        MergeTileTallies(tiles, merged), planes, *gt, eval_options);
-    spdlog::info("map planes vs {}: {}/{} GT ground/facade planes with >= {} m^2 visible matched "
-                 "(< {} deg, < {} m); {:.2f} % of {} plane points within {} m of a GT plane",
-                 args.gt, evaluation.good, evaluation.checked.size(),
-                 eval_options.min_visible_area, eval_options.max_angle_deg,
-                 eval_options.max_offset, 100.0 * evaluation.labelled_on_gt,
-                 evaluation.labelled_points, eval_options.labelled_distance);
+    const PlaneMapEvaluation evaluation =
+        FinishPlaneMapEvaluation(MergeTileTallies(tiles, merged), planes, *gt, eval_options);
+    spdlog::info(
+        "map planes vs {}: {}/{} GT ground/facade planes with >= {} m^2 visible matched "
+        "(< {} deg, < {} m); {:.2f} % of {} plane points within {} m of a GT plane",
+        args.gt, evaluation.good, evaluation.checked.size(), eval_options.min_visible_area,
+        eval_options.max_angle_deg, eval_options.max_offset, 100.0 * evaluation.labelled_on_gt,
+        evaluation.labelled_points, eval_options.labelled_distance);
     planes.stats["gt_evaluation"] = evaluation.ToJson();
   }
   WritePlaneMap(args.out, planes);

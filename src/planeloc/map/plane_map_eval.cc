@@ -159,8 +159,8 @@ PlaneMapTally TallyPlaneMap(const std::vector<Eigen::Vector3d>& map_points,
       });
 }
 
-PlaneMapEvaluation FinishPlaneMapEvaluation(const PlaneMapTally& tally,
-                                            const PlaneMap& extracted, const PlaneMap& gt,
+PlaneMapEvaluation FinishPlaneMapEvaluation(const PlaneMapTally& tally, const PlaneMap& extracted,
+                                            const PlaneMap& gt,
                                             const PlaneMapEvalOptions& options) {
   const std::vector<const MapPlane*> candidates = Candidates(gt, options);
   if (tally.visible.size() != candidates.size()) {

@@ -70,9 +70,8 @@ struct PlaneMapTally {
 PlaneMapTally TallyPlaneMap(const std::vector<Eigen::Vector3d>& map_points,
                             const std::vector<int>& point_plane, const PlaneMap& gt,
                             const PlaneMapEvalOptions& options);
-PlaneMapEvaluation FinishPlaneMapEvaluation(const PlaneMapTally& tally,
-                                            const PlaneMap& extracted, const PlaneMap& gt,
-                                            const PlaneMapEvalOptions& options);
+PlaneMapEvaluation FinishPlaneMapEvaluation(const PlaneMapTally& tally, const PlaneMap& extracted,
+                                            const PlaneMap& gt, const PlaneMapEvalOptions& options);
 
 // `point_plane[i]` = id of the extracted plane that point i belongs to, or -1.
 PlaneMapEvaluation EvaluatePlaneMap(const std::vector<Eigen::Vector3d>& map_points,

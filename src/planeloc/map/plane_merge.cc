@@ -64,8 +64,8 @@ struct CellHash {
            (static_cast<std::size_t>(c.z()) * 83492791u);
   }
 };
-using Cells = std::unordered_map<Eigen::Vector3i, std::vector<std::pair<int, Eigen::Vector3d>>,
-                                 CellHash>;
+using Cells =
+    std::unordered_map<Eigen::Vector3i, std::vector<std::pair<int, Eigen::Vector3d>>, CellHash>;
 
 // True when a sample of `a` in cell `ca` lies within `radius` of a sample of `b` in cell `cb`.
 bool Touch(const std::vector<std::pair<int, Eigen::Vector3d>>& ca,
@@ -93,7 +93,7 @@ std::vector<int> JoinAdjacent(const std::vector<PieceRef>& pieces,
   std::vector<int> parent(pieces.size());
   std::iota(parent.begin(), parent.end(), 0);
   std::map<std::pair<int, int>, bool> same_plane;  // cached per piece pair
-  std::vector<const Cells::value_type*> order;      // cells in a fixed order: deterministic unions
+  std::vector<const Cells::value_type*> order;     // cells in a fixed order: deterministic unions
   for (const auto& entry : cells) order.push_back(&entry);
   std::sort(order.begin(), order.end(), [](const auto* x, const auto* y) {
     return std::lexicographical_compare(x->first.data(), x->first.data() + 3, y->first.data(),
@@ -133,8 +133,9 @@ std::vector<int> JoinAdjacent(const std::vector<PieceRef>& pieces,
 }
 
 // Step 3 for a group of pieces: fit, outline, filters. Returns false when rejected.
-bool DescribeGroup(const std::vector<const TilePiece*>& group, const PlaneExtractionOptions& options,
-                   const Eigen::Vector3d& up, MapPlane& out) {
+bool DescribeGroup(const std::vector<const TilePiece*>& group,
+                   const PlaneExtractionOptions& options, const Eigen::Vector3d& up,
+                   MapPlane& out) {
   std::size_t count = 0;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const TilePiece* p : group) {
@@ -151,7 +152,8 @@ bool DescribeGroup(const std::vector<const TilePiece*>& group, const PlaneExtrac
   const double rms = std::sqrt(std::max(0.0, solver.eigenvalues()(0)) / count);
   if (static_cast<int>(count) < options.min_inliers || rms > options.max_rms) return false;
   const Eigen::Vector3d normal = solver.eigenvectors().col(0).normalized();
-  out.plane_in_map = OrientPlane(Plane::FromPointAndNormal(mean, normal), up, options.kind_angle_deg);
+  out.plane_in_map =
+      OrientPlane(Plane::FromPointAndNormal(mean, normal), up, options.kind_angle_deg);
   const Eigen::Vector3d& n = out.plane_in_map.normal;
   const Eigen::Vector3d helper =
       std::abs(n.dot(up)) < 0.9 ? up : Eigen::Vector3d(Eigen::Vector3d::UnitX());

@@ -37,8 +37,7 @@ struct MergedPlanes {
 };
 
 // `tiles` sorted by key, none failed. Throws std::invalid_argument otherwise.
-MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles,
-                             const MapPlanesOptions& options);
+MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles, const MapPlanesOptions& options);
 
 // Sums the tiles' GT tallies with their plane ids replaced by the merged ids.
 PlaneMapTally MergeTileTallies(const std::vector<TilePlanes>& tiles, const MergedPlanes& merged);

@@ -45,8 +45,8 @@ MergedPlanes RunTiled(const PointCloud& map, const MapPlanesOptions& options) {
   for (const TileEntry& entry : index.tiles) {
     const TilePlanes tile = ExtractTilePlanes(ReadPointCloud(dir.path() / entry.file), entry.key,
                                               grid, options, nullptr, {});
-    tiles.push_back(TilePlanes::FromJson(nlohmann::json::from_cbor(
-        nlohmann::json::to_cbor(tile.ToJson()))));
+    tiles.push_back(
+        TilePlanes::FromJson(nlohmann::json::from_cbor(nlohmann::json::to_cbor(tile.ToJson()))));
   }
   return MergeTilePlanes(tiles, options);
 }

@@ -159,8 +159,7 @@ TilePlanes ExtractTilePlanes(const PointCloud& tile, const TileKey& key, const T
     if (piece.core_inliers > 0) result.pieces.push_back(std::move(piece));
   }
   if (gt != nullptr) result.gt = TallyPlaneMap(core_points, core_labels, *gt, eval_options);
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -29,20 +29,20 @@ struct TilePiece {
   MapPlane plane;         // as extracted in the tile (its id = the tile's plane id)
   bool complete = false;  // every inlier lies in the tile's core
   std::size_t core_inliers = 0;
-  Eigen::Vector3d core_mean = Eigen::Vector3d::Zero();       // map frame, metres
-  Eigen::Matrix3d core_scatter = Eigen::Matrix3d::Zero();    // sum (x - mean)(x - mean)^T, m^2
+  Eigen::Vector3d core_mean = Eigen::Vector3d::Zero();     // map frame, metres
+  Eigen::Matrix3d core_scatter = Eigen::Matrix3d::Zero();  // sum (x - mean)(x - mean)^T, m^2
   std::vector<Eigen::Vector3d> samples;  // core inliers averaged per outline cell (map frame)
 };
 
 struct TilePlanes {
   TileKey key = {0, 0};
-  std::string file;   // the tile's file, for messages
-  std::string error;  // non-empty: the tile failed (the message); nothing else is valid
+  std::string file;             // the tile's file, for messages
+  std::string error;            // non-empty: the tile failed (the message); nothing else is valid
   std::size_t points = 0;       // after the voxel filter
   std::size_t core_points = 0;  // of which in the core
   Eigen::Vector3d up = Eigen::Vector3d::Zero();
   bool up_detected = false;
-  double seconds = 0.0;  // wall-clock, for logs only
+  double seconds = 0.0;             // wall-clock, for logs only
   std::vector<TilePiece> pieces;    // planes with at least one core inlier, by tile plane id
   std::optional<PlaneMapTally> gt;  // of the core points, labels = tile plane ids
 
