@@ -79,6 +79,36 @@ bool Touch(const std::vector<std::pair<int, Eigen::Vector3d>>& ca,
   return false;
 }
 
+// The total-least-squares plane of the core inliers of `members` (from their moments) holds each
+// member: its normal within merge_angle_deg and its core centroid within merge_distance. Stops a
+// chain of pairwise-coplanar pieces (a long road whose slope changes) from becoming one plane
+// that fits none of them, as the untiled robust refit would.
+bool FitsAll(const std::vector<PieceRef>& pieces, const std::vector<int>& members,
+             const PlaneExtractionOptions& options) {
+  double count = 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const int k : members) {
+    count += static_cast<double>(pieces[k].piece->core_inliers);
+    mean += static_cast<double>(pieces[k].piece->core_inliers) * pieces[k].piece->core_mean;
+  }
+  mean /= count;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const int k : members) {
+    const TilePiece& p = *pieces[k].piece;
+    const Eigen::Vector3d r = p.core_mean - mean;
+    scatter += p.core_scatter + static_cast<double>(p.core_inliers) * r * r.transpose();
+  }
+  const Eigen::Vector3d n =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(0).normalized();
+  const double cos_merge = std::cos(options.merge_angle_deg * std::numbers::pi / 180.0);
+  for (const int k : members) {
+    const TilePiece& p = *pieces[k].piece;
+    if (std::abs(n.dot(p.plane.plane_in_map.normal)) < cos_merge) return false;
+    if (std::abs(n.dot(p.core_mean - mean)) > options.merge_distance) return false;
+  }
+  return true;
+}
+
 // Step 2: union-find over the pieces. Two pieces touch when samples of theirs lie within `radius`
 // (the untiled merge's adjacency: a shared neighbourhood, plus the sampling); pieces of one tile
 // are tested too, since the tile may have cut a plane the whole map would have kept in one piece.
@@ -92,6 +122,17 @@ std::vector<int> JoinAdjacent(const std::vector<PieceRef>& pieces,
   }
   std::vector<int> parent(pieces.size());
   std::iota(parent.begin(), parent.end(), 0);
+  std::vector<std::vector<int>> members(pieces.size());  // per root
+  for (std::size_t k = 0; k < pieces.size(); ++k) members[k] = {static_cast<int>(k)};
+  auto join = [&](int a, int b) {
+    const int ra = Find(parent, a), rb = Find(parent, b);
+    std::vector<int> both = members[ra];
+    both.insert(both.end(), members[rb].begin(), members[rb].end());
+    if (!FitsAll(pieces, both, options)) return;
+    parent[ra] = rb;
+    members[rb] = std::move(both);
+    members[ra].clear();
+  };
   std::map<std::pair<int, int>, bool> same_plane;  // cached per piece pair
   std::vector<const Cells::value_type*> order;     // cells in a fixed order: deterministic unions
   for (const auto& entry : cells) order.push_back(&entry);
@@ -120,9 +161,7 @@ std::vector<int> JoinAdjacent(const std::vector<PieceRef>& pieces,
               if (inserted) {
                 cached->second = SamePlane(*pieces[a].piece, *pieces[b].piece, options);
               }
-              if (cached->second && Touch(entry->second, it->second, a, b, radius)) {
-                parent[Find(parent, a)] = Find(parent, b);
-              }
+              if (cached->second && Touch(entry->second, it->second, a, b, radius)) join(a, b);
             }
           }
         }

@@ -7,7 +7,8 @@
 //     other, across a border or in one tile (a tile
 //     may cut a plane that the whole map keeps in one piece) — and lie on the same plane by the
 //     untiled patch-merge test (normals within merge_angle_deg, each core centroid within
-//     merge_distance of the other's plane);
+//     merge_distance of the other's plane), and the group's joint fit still holds every member
+//     by the same test (no chain of pairwise-coplanar pieces along a road whose slope changes);
 //  3. a piece alone and complete (all its inliers in its core) is kept as the tile extracted it;
 //     any other group is refitted from its pieces' core moments (total least squares), outlined
 //     from their samples (plane_outline.h) and checked against the extraction's min_inliers,
