@@ -12,6 +12,7 @@
 
 #include "command_registry.h"
 #include "flags.h"
+#include "map_tiles_cli.h"
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/io/point_cloud.h"
@@ -29,11 +30,14 @@ struct BuildArgs {
   std::string sequence;
   std::string poses;
   std::string out;
+  std::string tiles_out;  // issue 15: tiles instead of one map file
+  TilingOptions tiling;
   MapBuildOptions options;
 };
 
 struct PlanesArgs {
   std::string map;
+  std::string tiles;  // issue 15: a tiles folder instead of --map
   std::string out;
   std::string ply;
   std::string options_yaml;
@@ -54,6 +58,18 @@ int RunBuild(const BuildArgs& args) {
   CheckFlag(AtLeast(o.max_range, 0.0) && o.max_range > o.min_range, "--max-range", o.max_range,
             fmt::format("a distance in metres above --min-range ({})", o.min_range),
             "e.g. --max-range 60");
+  CheckFlag(args.out.empty() != args.tiles_out.empty(), "--out/--tiles-out",
+            args.out.empty() ? "(neither)" : "(both)", "a map file or a tiles folder, not both",
+            "e.g. --out map.pcd, or --tiles-out tiles/ --tile-size 100 --overlap 5");
+  if (!args.tiles_out.empty()) {
+    TileArgs tile;
+    tile.sequence = args.sequence;
+    tile.poses = args.poses;
+    tile.out = args.tiles_out;
+    tile.tiling = args.tiling;
+    tile.build = args.options;
+    return RunTile(tile);
+  }
   CheckOutputPaths({{"--out", args.out}}, {{"--poses", args.poses}});
   const KittiSequence sequence = KittiSequence::Open(args.sequence);
   const Trajectory poses = ReadKittiTrajectory(args.poses);
@@ -67,7 +83,7 @@ int RunBuild(const BuildArgs& args) {
   return 0;
 }
 
-int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
+MapPlanesOptions PlanesOptions(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
   if (sigma_given) {
     CheckFlag(std::isfinite(args.sigma) && args.sigma > 0.0, "--sigma", args.sigma,
               "the tensor-voting scale in metres, > 0 (LiDAR maps: 0.2 to 2)", "e.g. --sigma 0.5");
@@ -83,8 +99,6 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
               "--up", fmt::format("{}", fmt::join(args.up, " ")),
               "three finite numbers, not all zero (a direction)", "e.g. --up 0 0 1");
   }
-  CheckOutputPaths({{"--out", args.out}, {"--ply", args.ply}},
-                   {{"--map", args.map}, {"--gt", args.gt}, {"--options", args.options_yaml}});
   MapPlanesOptions options;
   // Without --up (or `up` in the options file) the up axis is detected from the map.
   options.plane_extraction.detect_up = true;
@@ -96,6 +110,20 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
     options.plane_extraction.detect_up = false;
   }
   options.Check();
+  return options;
+}
+
+int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
+  CheckFlag(args.map.empty() != args.tiles.empty(), "--map/--tiles",
+            args.map.empty() ? "(neither)" : "(both)", "a map file or a tiles folder, not both",
+            "e.g. --map map.pcd, or --tiles tiles/ (written by `planeloc map tile`)");
+  CheckFlag(args.tiles.empty() || args.ply.empty(), "--ply", args.ply,
+            "no --ply with --tiles (the labelled points stay in the tiles)", "drop --ply");
+  const MapPlanesOptions options = PlanesOptions(args, sigma_given, voxel_given);
+  if (!args.tiles.empty())
+    return RunTiledPlanes({args.tiles, args.out, args.gt, args.frame}, options);
+  CheckOutputPaths({{"--out", args.out}, {"--ply", args.ply}},
+                   {{"--map", args.map}, {"--gt", args.gt}, {"--options", args.options_yaml}});
   // Voxel-filtered while reading: memory follows the voxels, not the points of the file.
   PointCloudReadOptions read_options;
   read_options.voxel_size = options.EffectiveVoxelSize();
@@ -167,7 +195,16 @@ CommandRunner SetupMap(CLI::App& app) {
       ->required();
   build->add_option("--poses", build_args->poses, "KITTI pose file (world_from_cam per frame)")
       ->required();
-  build->add_option("--out", build_args->out, "Map file (.pcd, .ply or .xyz)")->required();
+  build->add_option("--out", build_args->out, "Map file (.pcd, .ply or .xyz)");
+  build->add_option("--tiles-out", build_args->tiles_out,
+                    "Write tiles (and index.json) to this folder instead of one map, streaming "
+                    "the scans (see `map tile`)");
+  build->add_option("--tile-size", build_args->tiling.tile_size, "Tile side, metres (--tiles-out)")
+      ->capture_default_str();
+  build
+      ->add_option("--overlap", build_args->tiling.overlap,
+                   "Band of neighbour points stored with each tile, metres (--tiles-out)")
+      ->capture_default_str();
   build->add_option("--voxel", build_args->options.voxel_size, "Voxel size, metres (0 = none)")
       ->capture_default_str();
   build->add_option("--every", build_args->options.every, "Use every N-th scan")
@@ -179,7 +216,10 @@ CommandRunner SetupMap(CLI::App& app) {
 
   auto planes_args = std::make_shared<PlanesArgs>();
   auto* planes = map->add_subcommand("planes", "Tensor voting and plane extraction -> planes.json");
-  planes->add_option("--map", planes_args->map, "Map (.pcd, .ply or .xyz)")->required();
+  planes->add_option("--map", planes_args->map, "Map (.pcd, .ply or .xyz)");
+  planes->add_option("--tiles", planes_args->tiles,
+                     "Tiles folder (`map tile`) instead of --map: tile by tile, or over MPI ranks "
+                     "under mpirun/srun");
   planes->add_option("--out", planes_args->out, "Plane map JSON")->required();
   planes->add_option("--ply", planes_args->ply, "Also write the map coloured by plane and class");
   auto* sigma = planes->add_option("--sigma", planes_args->sigma,
@@ -204,8 +244,30 @@ CommandRunner SetupMap(CLI::App& app) {
                      "Ground-truth planes (a simulated world's world/planes_gt.json): log and "
                      "store the accuracy of the extracted planes");
 
-  return [build, planes, build_args, planes_args, sigma, voxel]() {
+  auto tile_args = std::make_shared<TileArgs>();
+  auto* tile = map->add_subcommand("tile", "Cut a map (or a sequence's scans) into tiles");
+  tile->add_option("--map", tile_args->map, "Map (.pcd, .ply or .xyz)");
+  tile->add_option("--sequence", tile_args->sequence, "KITTI sequence folder, instead of --map");
+  tile->add_option("--poses", tile_args->poses, "KITTI pose file of --sequence");
+  tile->add_option("--out", tile_args->out, "Tiles folder (created; tiles and index.json)")
+      ->required();
+  tile->add_option("--tile-size", tile_args->tiling.tile_size, "Tile side, metres")
+      ->capture_default_str();
+  tile->add_option("--overlap", tile_args->tiling.overlap,
+                   "Band of neighbour points stored with each tile, metres")
+      ->capture_default_str();
+  tile->add_option("--voxel", tile_args->build.voxel_size, "--sequence: voxel size, metres")
+      ->capture_default_str();
+  tile->add_option("--every", tile_args->build.every, "--sequence: use every N-th scan")
+      ->capture_default_str();
+  tile->add_option("--min-range", tile_args->build.min_range, "--sequence: metres")
+      ->capture_default_str();
+  tile->add_option("--max-range", tile_args->build.max_range, "--sequence: metres")
+      ->capture_default_str();
+
+  return [build, planes, tile, build_args, planes_args, tile_args, sigma, voxel]() {
     if (build->parsed()) return RunBuild(*build_args);
+    if (tile->parsed()) return RunTile(*tile_args);
     if (planes->parsed()) return RunPlanes(*planes_args, sigma->count() > 0, voxel->count() > 0);
     return 2;
   };

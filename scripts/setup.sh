@@ -12,6 +12,9 @@ PACKAGES=(
   libjs-three chromium
   # clang and its sanitizer and libFuzzer runtimes: scripts/test.sh --sanitize, scripts/fuzz.sh.
   clang libclang-rt-14-dev
+  # Open MPI: `mpirun -n N planeloc map planes --tiles ...` (issue 15; the build finds it and
+  # turns PLANELOC_WITH_MPI on).
+  libopenmpi-dev openmpi-bin
 )
 # libjs-three: three.js, inlined into the pages of `planeloc report`. chromium and python3-pil:
 # tests/report_browser_test.sh opens such a page headless and measures its screenshot.

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <functional>
 #include <string>
 
 #include "planeloc/io/voxel_filter.h"
@@ -44,9 +45,13 @@ void MapAccumulator::AddScan(const std::vector<Eigen::Vector3d>& points_in_velo,
     const double r2 = p.squaredNorm();
     if (r2 >= min2 && r2 <= max2 && p.allFinite()) kept.push_back(world_from_velo * p);
   }
-  kept = VoxelDownsample(kept, options_.voxel_size);
-  points_.insert(points_.end(), kept.begin(), kept.end());
+  AddPoints(std::move(kept));
   ++scans_;
+}
+
+void MapAccumulator::AddPoints(std::vector<Eigen::Vector3d> points_in_world) {
+  points_in_world = VoxelDownsample(points_in_world, options_.voxel_size);
+  points_.insert(points_.end(), points_in_world.begin(), points_in_world.end());
   if (points_.size() - compacted_size_ > options_.buffer_points) Compact();
 }
 
@@ -70,8 +75,9 @@ PointCloud MapAccumulator::Finish() {
   return map;
 }
 
-PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequence,
-                    const Trajectory& poses) {
+std::size_t ForEachScan(
+    const MapBuildOptions& options, const KittiSequence& sequence, const Trajectory& poses,
+    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink) {
   options.Check();
   const std::string folder = sequence.folder().string();
   CheckInput(poses.size() == sequence.size(), folder, 0,
@@ -82,8 +88,7 @@ PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequenc
              "the sequence has no LiDAR-to-camera calibration (Tr / calib_velo_to_cam.txt)",
              "use a sequence with its Velodyne calibration");
   const Rigid3d cam_from_velo = *sequence.cam_from_velo();
-  MapAccumulator accumulator(options);
-  std::size_t missing = 0;
+  std::size_t missing = 0, scans = 0;
   const std::size_t total = (sequence.size() + options.every - 1) / options.every;
   ProgressBar progress("map build", total, "scans");
   if (!options.show_progress) progress.Finish();
@@ -94,15 +99,26 @@ PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequenc
       continue;
     }
     const VelodyneScan scan = ReadVelodyneScan(*path);
-    accumulator.AddScan(scan.points, poses.world_from_cam[i] * cam_from_velo);
+    sink(scan.points, poses.world_from_cam[i] * cam_from_velo);
+    ++scans;
     if (options.show_progress) progress.Update(done + 1);
   }
   progress.Finish();
   if (missing > 0) spdlog::warn("map build: {} of {} frames have no Velodyne scan", missing, total);
-  CheckInput(accumulator.scans() > 0, folder, 0, "no Velodyne scan found in the sequence",
+  CheckInput(scans > 0, folder, 0, "no Velodyne scan found in the sequence",
              "check the sequence's velodyne/ (or velodyne_points/data/) folder");
+  return scans;
+}
+
+PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequence,
+                    const Trajectory& poses) {
+  MapAccumulator accumulator(options);
+  ForEachScan(options, sequence, poses,
+              [&](const std::vector<Eigen::Vector3d>& points, const Rigid3d& world_from_velo) {
+                accumulator.AddScan(points, world_from_velo);
+              });
   PointCloud map = accumulator.Finish();
-  CheckInput(!map.empty(), folder, 0,
+  CheckInput(!map.empty(), sequence.folder().string(), 0,
              "the map is empty: no scan point lies within the range limits",
              "check --min-range / --max-range (metres)");
   spdlog::info("map build: {} scans -> {} points (voxel {} m)", accumulator.scans(), map.size(),

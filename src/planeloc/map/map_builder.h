@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "planeloc/geometry/rigid3.h"
@@ -37,6 +38,8 @@ class MapAccumulator {
   explicit MapAccumulator(MapBuildOptions options);
   // Adds the points of one scan (sensor frame) within [min_range, max_range], moved to the world.
   void AddScan(const std::vector<Eigen::Vector3d>& points_in_velo, const Rigid3d& world_from_velo);
+  // Adds points already in the world frame (no range filter), voxel-downsampled like a scan.
+  void AddPoints(std::vector<Eigen::Vector3d> points_in_world);
   std::size_t scans() const { return scans_; }
   // The downsampled map (world frame). Call once.
   PointCloud Finish();
@@ -56,6 +59,14 @@ class MapAccumulator {
 // call); returns the input when voxel_size <= 0.
 std::vector<Eigen::Vector3d> VoxelDownsample(const std::vector<Eigen::Vector3d>& points,
                                              double voxel_size);
+
+// Reads every options.every-th scan of `sequence` and hands it (Velodyne frame) to `sink` with its
+// world_from_velo (poses: world_from_cam per frame). Returns the number of scans; throws InputError
+// if the counts differ, the sequence has no LiDAR calibration or no scan (frames without a scan
+// file are skipped with a warning). Shared by BuildMap and the tiled build (map_tiles.h).
+std::size_t ForEachScan(
+    const MapBuildOptions& options, const KittiSequence& sequence, const Trajectory& poses,
+    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink);
 
 // Builds the map of `sequence` with `poses` (world_from_cam of the sequence's left camera, one per
 // frame). Throws InputError if the counts differ, the sequence has no LiDAR calibration or no

@@ -419,6 +419,10 @@ double PolygonArea2d(const std::vector<Eigen::Vector2d>& polygon) {
   return 0.5 * std::abs(twice);
 }
 
+Plane OrientPlane(const Plane& plane, const Eigen::Vector3d& up, double kind_angle_deg) {
+  return Orient(plane, up.normalized(), Cos(kind_angle_deg));
+}
+
 PlaneExtractionResult ExtractPlanes(const std::vector<Eigen::Vector3d>& points,
                                     const TensorVotingResult& voting,
                                     const PlaneExtractionOptions& options) {

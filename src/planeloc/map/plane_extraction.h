@@ -64,6 +64,11 @@ struct PlaneExtractionResult {
 std::string PlaneKind(const Eigen::Vector3d& normal, const Eigen::Vector3d& up,
                       double kind_angle_deg);
 
+// The orientation convention of the extracted planes: ground normals (within kind_angle_deg of
+// `up`) point up; other normals have a positive largest component, so the same plane always gets
+// the same (n, d).
+Plane OrientPlane(const Plane& plane, const Eigen::Vector3d& up, double kind_angle_deg);
+
 // `voting` must come from RunTensorVoting(points, ...). An input without planar structure gives an
 // empty plane map (not an error; the caller warns).
 PlaneExtractionResult ExtractPlanes(const std::vector<Eigen::Vector3d>& points,

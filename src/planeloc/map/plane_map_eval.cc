@@ -31,22 +31,15 @@ struct FlatPolygon {
   }
 };
 
-// Per checked-kind GT plane: visible point count and votes per extracted id.
-struct Tally {
-  std::vector<std::size_t> visible;
-  std::vector<std::map<int, std::size_t>> labels;
-  std::size_t labelled = 0, labelled_near = 0;
-
-  explicit Tally(std::size_t planes) : visible(planes, 0), labels(planes) {}
-  void Merge(const Tally& other) {
-    for (std::size_t g = 0; g < visible.size(); ++g) {
-      visible[g] += other.visible[g];
-      for (const auto& [id, count] : other.labels[g]) labels[g][id] += count;
+std::vector<const MapPlane*> Candidates(const PlaneMap& gt, const PlaneMapEvalOptions& options) {
+  std::vector<const MapPlane*> candidates;
+  for (const MapPlane& g : gt.planes) {
+    if (std::find(options.kinds.begin(), options.kinds.end(), g.kind) != options.kinds.end()) {
+      candidates.push_back(&g);
     }
-    labelled += other.labelled;
-    labelled_near += other.labelled_near;
   }
-};
+  return candidates;
+}
 
 }  // namespace
 
@@ -63,6 +56,45 @@ void PlaneMapEvalOptions::Check() const {
   if (!(labelled_distance > 0.0)) {
     throw OptionsError("PlaneMapEvalOptions.labelled_distance must be > 0 (m)");
   }
+}
+
+void PlaneMapTally::Merge(const PlaneMapTally& other) {
+  if (visible.empty()) visible.assign(other.visible.size(), 0);
+  if (labels.empty()) labels.resize(other.labels.size());
+  if (other.visible.size() != visible.size()) {
+    throw std::invalid_argument("PlaneMapTally::Merge: tallies of different GT plane sets");
+  }
+  for (std::size_t g = 0; g < visible.size(); ++g) {
+    visible[g] += other.visible[g];
+    for (const auto& [id, count] : other.labels[g]) labels[g][id] += count;
+  }
+  labelled += other.labelled;
+  labelled_near += other.labelled_near;
+}
+
+nlohmann::json PlaneMapTally::ToJson() const {
+  nlohmann::json votes = nlohmann::json::array();
+  for (const auto& per_gt : labels) {
+    nlohmann::json pairs = nlohmann::json::array();
+    for (const auto& [id, count] : per_gt) pairs.push_back({id, count});
+    votes.push_back(pairs);
+  }
+  return {{"visible", visible},
+          {"labels", votes},
+          {"labelled", labelled},
+          {"labelled_near", labelled_near}};
+}
+
+PlaneMapTally PlaneMapTally::FromJson(const nlohmann::json& json) {
+  PlaneMapTally tally;
+  tally.visible = json.at("visible").get<std::vector<std::size_t>>();
+  for (const auto& pairs : json.at("labels")) {
+    auto& per_gt = tally.labels.emplace_back();
+    for (const auto& pair : pairs) per_gt[pair.at(0).get<int>()] = pair.at(1).get<std::size_t>();
+  }
+  tally.labelled = json.at("labelled").get<std::size_t>();
+  tally.labelled_near = json.at("labelled_near").get<std::size_t>();
+  return tally;
 }
 
 nlohmann::json PlaneMapEvaluation::ToJson() const {
@@ -84,25 +116,22 @@ nlohmann::json PlaneMapEvaluation::ToJson() const {
           {"planes", planes}};
 }
 
-PlaneMapEvaluation EvaluatePlaneMap(const std::vector<Eigen::Vector3d>& map_points,
-                                    const std::vector<int>& point_plane, const PlaneMap& extracted,
-                                    const PlaneMap& gt, const PlaneMapEvalOptions& options) {
+PlaneMapTally TallyPlaneMap(const std::vector<Eigen::Vector3d>& map_points,
+                            const std::vector<int>& point_plane, const PlaneMap& gt,
+                            const PlaneMapEvalOptions& options) {
   options.Check();
   if (point_plane.size() != map_points.size()) {
     throw std::invalid_argument("EvaluatePlaneMap: one plane label per map point expected");
   }
-  std::vector<const MapPlane*> candidates;
+  const std::vector<const MapPlane*> candidates = Candidates(gt, options);
   std::vector<FlatPolygon> outlines;
-  for (const MapPlane& g : gt.planes) {
-    if (std::find(options.kinds.begin(), options.kinds.end(), g.kind) == options.kinds.end()) {
-      continue;
-    }
-    candidates.push_back(&g);
-    outlines.emplace_back(g);
-  }
-  const Tally tally = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, map_points.size(), 4096), Tally(candidates.size()),
-      [&](const tbb::blocked_range<std::size_t>& range, Tally local) {
+  for (const MapPlane* g : candidates) outlines.emplace_back(*g);
+  PlaneMapTally empty;
+  empty.visible.assign(candidates.size(), 0);
+  empty.labels.resize(candidates.size());
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, map_points.size(), 4096), empty,
+      [&](const tbb::blocked_range<std::size_t>& range, PlaneMapTally local) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           const Eigen::Vector3d& p = map_points[i];
           for (std::size_t g = 0; g < candidates.size(); ++g) {
@@ -124,11 +153,19 @@ PlaneMapEvaluation EvaluatePlaneMap(const std::vector<Eigen::Vector3d>& map_poin
         }
         return local;
       },
-      [](Tally a, const Tally& b) {
+      [](PlaneMapTally a, const PlaneMapTally& b) {
         a.Merge(b);
         return a;
       });
+}
 
+PlaneMapEvaluation FinishPlaneMapEvaluation(const PlaneMapTally& tally, const PlaneMap& extracted,
+                                            const PlaneMap& gt,
+                                            const PlaneMapEvalOptions& options) {
+  const std::vector<const MapPlane*> candidates = Candidates(gt, options);
+  if (tally.visible.size() != candidates.size()) {
+    throw std::invalid_argument("FinishPlaneMapEvaluation: the tally is of another GT");
+  }
   std::map<int, const MapPlane*> by_id;
   for (const MapPlane& p : extracted.planes) by_id[p.id] = &p;
   PlaneMapEvaluation evaluation;
@@ -162,6 +199,13 @@ PlaneMapEvaluation EvaluatePlaneMap(const std::vector<Eigen::Vector3d>& map_poin
                                                   : static_cast<double>(tally.labelled_near) /
                                                         static_cast<double>(tally.labelled);
   return evaluation;
+}
+
+PlaneMapEvaluation EvaluatePlaneMap(const std::vector<Eigen::Vector3d>& map_points,
+                                    const std::vector<int>& point_plane, const PlaneMap& extracted,
+                                    const PlaneMap& gt, const PlaneMapEvalOptions& options) {
+  return FinishPlaneMapEvaluation(TallyPlaneMap(map_points, point_plane, gt, options), extracted,
+                                  gt, options);
 }
 
 }  // namespace planeloc

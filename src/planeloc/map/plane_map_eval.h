@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -52,6 +53,25 @@ struct PlaneMapEvaluation {
   bool AllGood() const { return good == static_cast<int>(checked.size()); }
   nlohmann::json ToJson() const;
 };
+
+// The per-point part of EvaluatePlaneMap, which can be summed over pieces of the map (tiles,
+// issue 15): per checked GT plane (the GT planes of options.kinds, in file order) the visible point
+// count and the votes per extracted id, and the labelled point counts.
+struct PlaneMapTally {
+  std::vector<std::size_t> visible;
+  std::vector<std::map<int, std::size_t>> labels;
+  std::size_t labelled = 0, labelled_near = 0;
+
+  void Merge(const PlaneMapTally& other);  // same GT, same options, same extracted ids
+  nlohmann::json ToJson() const;
+  static PlaneMapTally FromJson(const nlohmann::json& json);
+};
+
+PlaneMapTally TallyPlaneMap(const std::vector<Eigen::Vector3d>& map_points,
+                            const std::vector<int>& point_plane, const PlaneMap& gt,
+                            const PlaneMapEvalOptions& options);
+PlaneMapEvaluation FinishPlaneMapEvaluation(const PlaneMapTally& tally, const PlaneMap& extracted,
+                                            const PlaneMap& gt, const PlaneMapEvalOptions& options);
 
 // `point_plane[i]` = id of the extracted plane that point i belongs to, or -1.
 PlaneMapEvaluation EvaluatePlaneMap(const std::vector<Eigen::Vector3d>& map_points,

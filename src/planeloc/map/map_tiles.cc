@@ -1,0 +1,254 @@
+#include "planeloc/map/map_tiles.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <utility>
+
+#include "planeloc/util/error.h"
+#include "planeloc/util/safe_file.h"
+
+namespace planeloc {
+
+void TilingOptions::Check() const {
+  if (!(std::isfinite(tile_size) && tile_size > 0.0)) {
+    throw OptionsError("TilingOptions.tile_size must be > 0 (m)");
+  }
+  if (!(std::isfinite(overlap) && overlap >= 0.0 && overlap < tile_size)) {
+    throw OptionsError("TilingOptions.overlap must be in [0, tile_size) (m)");
+  }
+  const bool automatic = axes[0] == -1 && axes[1] == -1;
+  const bool valid =
+      axes[0] >= 0 && axes[0] <= 2 && axes[1] >= 0 && axes[1] <= 2 && axes[0] != axes[1];
+  if (!automatic && !valid) {
+    throw OptionsError("TilingOptions.axes must be two different axes in 0..2 (or both -1)");
+  }
+}
+
+TileGrid::TileGrid(const TilingOptions& options) : options_(options) {
+  options_.Check();
+  if (options_.axes[0] < 0) throw std::invalid_argument("TileGrid: tiling axes not set");
+}
+
+TileKey TileGrid::KeyOf(const Eigen::Vector3d& point) const {
+  return {static_cast<long long>(std::floor(point[options_.axes[0]] / options_.tile_size)),
+          static_cast<long long>(std::floor(point[options_.axes[1]] / options_.tile_size))};
+}
+
+std::vector<TileKey> TileGrid::BoxKeysOf(const Eigen::Vector3d& point) const {
+  std::array<std::vector<long long>, 2> per_axis;
+  for (int k = 0; k < 2; ++k) {
+    const double x = point[options_.axes[k]];
+    const auto lo = static_cast<long long>(std::floor((x - options_.overlap) / options_.tile_size));
+    const auto hi = static_cast<long long>(std::floor((x + options_.overlap) / options_.tile_size));
+    for (long long i = lo; i <= hi; ++i) per_axis[k].push_back(i);
+  }
+  std::vector<TileKey> keys;
+  for (const long long i : per_axis[0]) {
+    for (const long long j : per_axis[1]) keys.push_back({i, j});
+  }
+  return keys;
+}
+
+double TileGrid::DistanceToCoreEdge(const TileKey& key, const Eigen::Vector3d& point) const {
+  double distance = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 2; ++k) {
+    const double x = point[options_.axes[k]];
+    const double lo = static_cast<double>(key[k]) * options_.tile_size;
+    distance = std::min({distance, x - lo, lo + options_.tile_size - x});
+  }
+  return distance;
+}
+
+std::array<int, 2> HorizontalAxes(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 2) return {0, 1};
+  Eigen::Vector3d lo = points.front(), hi = points.front();
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Eigen::Vector3d extent = hi - lo;
+  int vertical = 0;
+  extent.minCoeff(&vertical);
+  std::array<int, 2> axes{};
+  for (int a = 0, k = 0; a < 3; ++a) {
+    if (a != vertical) axes[k++] = a;
+  }
+  return axes;
+}
+
+std::string TileFileName(const TileKey& key) {
+  return fmt::format("tile_{}_{}.ply", key[0], key[1]);
+}
+
+void WriteTileIndex(const std::filesystem::path& dir, const TileIndex& index) {
+  nlohmann::json tiles = nlohmann::json::array();
+  for (const TileEntry& t : index.tiles) {
+    tiles.push_back({{"key", {t.key[0], t.key[1]}},
+                     {"file", t.file},
+                     {"points", t.points},
+                     {"core_points", t.core_points}});
+  }
+  const nlohmann::json doc = {{"format", "planeloc-tiles"},
+                              {"version", 1},
+                              {"tile_size", index.tiling.tile_size},
+                              {"overlap", index.tiling.overlap},
+                              {"axes", {index.tiling.axes[0], index.tiling.axes[1]}},
+                              {"source", index.source},
+                              {"points", index.points},
+                              {"tiles", tiles}};
+  WriteFileWhole(dir / "index.json", doc.dump(1) + "\n");
+}
+
+TileIndex ReadTileIndex(const std::filesystem::path& dir) {
+  const std::filesystem::path path = dir / "index.json";
+  std::ifstream in(path);
+  CheckInput(in.good(), path.string(), 0, "cannot open the tile index",
+             "give --tiles a folder written by `planeloc map tile` or `map build --tiles-out`");
+  TileIndex index;
+  index.dir = dir;
+  try {
+    const nlohmann::json doc = nlohmann::json::parse(in);
+    CheckInput(doc.value("format", "") == "planeloc-tiles", path.string(), 0,
+               "not a planeloc tile index (no \"format\": \"planeloc-tiles\")",
+               "give --tiles a folder written by `planeloc map tile`");
+    index.tiling.tile_size = doc.at("tile_size").get<double>();
+    index.tiling.overlap = doc.at("overlap").get<double>();
+    index.tiling.axes = {doc.at("axes").at(0).get<int>(), doc.at("axes").at(1).get<int>()};
+    index.source = doc.value("source", "");
+    index.points = doc.value("points", std::size_t{0});
+    for (const auto& t : doc.at("tiles")) {
+      TileEntry entry;
+      entry.key = {t.at("key").at(0).get<long long>(), t.at("key").at(1).get<long long>()};
+      entry.file = t.at("file").get<std::string>();
+      entry.points = t.value("points", std::size_t{0});
+      entry.core_points = t.value("core_points", std::size_t{0});
+      index.tiles.push_back(std::move(entry));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path.string(), 0, fmt::format("malformed tile index: {}", e.what()),
+                     "re-create the tiles with `planeloc map tile`");
+  }
+  try {
+    index.tiling.Check();
+    TileGrid grid(index.tiling);
+  } catch (const std::exception& e) {
+    throw InputError(path.string(), 0, fmt::format("bad tiling in the index: {}", e.what()),
+                     "re-create the tiles with `planeloc map tile`");
+  }
+  std::sort(index.tiles.begin(), index.tiles.end(),
+            [](const TileEntry& a, const TileEntry& b) { return a.key < b.key; });
+  return index;
+}
+
+TileIndex WriteTiles(const PointCloud& map, const TilingOptions& options,
+                     const std::filesystem::path& dir, const std::string& source) {
+  TilingOptions tiling = options;
+  tiling.Check();
+  if (tiling.axes[0] < 0) tiling.axes = HorizontalAxes(map.points);
+  const TileGrid grid(tiling);
+  std::map<TileKey, std::vector<Eigen::Vector3d>> boxes;
+  std::map<TileKey, std::size_t> cores;
+  for (const auto& p : map.points) {
+    ++cores[grid.KeyOf(p)];
+    for (const TileKey& key : grid.BoxKeysOf(p)) boxes[key].push_back(p);
+  }
+  TileIndex index;
+  index.tiling = tiling;
+  index.source = source;
+  index.points = map.size();
+  for (auto& [key, points] : boxes) {
+    if (cores.count(key) == 0) continue;  // only overlap: every point is in another core
+    TileEntry entry;
+    entry.key = key;
+    entry.file = TileFileName(key);
+    entry.points = points.size();
+    entry.core_points = cores[key];
+    PointCloud tile;
+    tile.points = std::move(points);
+    WritePointCloud(dir / entry.file, tile);
+    index.tiles.push_back(std::move(entry));
+  }
+  WriteTileIndex(dir, index);
+  return index;
+}
+
+TiledMapWriter::TiledMapWriter(MapBuildOptions build, const TilingOptions& options,
+                               std::filesystem::path dir, std::string source)
+    : build_(std::move(build)), grid_(options), dir_(std::move(dir)), source_(std::move(source)) {
+  build_.Check();
+  build_.show_progress = false;
+}
+
+void TiledMapWriter::AddScan(const std::vector<Eigen::Vector3d>& points_in_velo,
+                             const Rigid3d& world_from_velo) {
+  const double min2 = build_.min_range * build_.min_range;
+  const double max2 = build_.max_range * build_.max_range;
+  std::map<TileKey, std::vector<Eigen::Vector3d>> per_tile;
+  for (const auto& p : points_in_velo) {
+    const double r2 = p.squaredNorm();
+    if (!(r2 >= min2 && r2 <= max2 && p.allFinite())) continue;
+    const Eigen::Vector3d q = world_from_velo * p;
+    for (const TileKey& key : grid_.BoxKeysOf(q)) per_tile[key].push_back(q);
+  }
+  for (auto& [key, points] : per_tile) {
+    auto it = open_.find(key);
+    if (it == open_.end()) {
+      it = open_.try_emplace(key, build_).first;
+      if (written_.count(key)) {  // the trajectory came back: continue the written tile
+        it->second.AddPoints(ReadPointCloud(dir_ / TileFileName(key)).points);
+      }
+    }
+    it->second.AddPoints(std::move(points));
+  }
+  // Tiles out of the sensor's reach (box farther than max_range in the tiling plane) are done
+  // until the trajectory returns.
+  const Eigen::Vector3d sensor = world_from_velo.translation;
+  std::vector<TileKey> done;
+  for (const auto& [key, accumulator] : open_) {
+    const double outside = -grid_.DistanceToCoreEdge(key, sensor) - grid_.options().overlap;
+    if (outside > build_.max_range) done.push_back(key);
+  }
+  for (const TileKey& key : done) Close(key);
+}
+
+void TiledMapWriter::Close(const TileKey key) {  // by value: erased below
+  auto it = open_.find(key);
+  PointCloud tile = it->second.Finish();
+  open_.erase(it);
+  if (!tile.empty()) WritePointCloud(dir_ / TileFileName(key), tile);
+  written_[key] = !tile.empty();
+}
+
+TileIndex TiledMapWriter::Finish() {
+  while (!open_.empty()) Close(open_.begin()->first);
+  TileIndex index;
+  index.tiling = grid_.options();
+  index.source = source_;
+  for (const auto& [key, nonempty] : written_) {
+    if (!nonempty) continue;
+    TileEntry entry;
+    entry.key = key;
+    entry.file = TileFileName(key);
+    const PointCloud tile = ReadPointCloud(dir_ / entry.file);  // one tile at a time
+    entry.points = tile.size();
+    for (const auto& p : tile.points) entry.core_points += grid_.InCore(key, p);
+    index.points += entry.core_points;
+    if (entry.core_points == 0) {
+      std::filesystem::remove(dir_ / entry.file);
+      continue;
+    }
+    index.tiles.push_back(std::move(entry));
+  }
+  CheckInput(!index.tiles.empty(), source_, 0,
+             "the map is empty: no scan point lies within the range limits",
+             "check --min-range / --max-range (metres)");
+  WriteTileIndex(dir_, index);
+  return index;
+}
+
+}  // namespace planeloc
