@@ -14,7 +14,9 @@ function(planeloc_compile_flags target)
 endfunction()
 
 function(planeloc_module)
-  cmake_parse_arguments(ARG "" "NAME" "DEPS;TEST_DEPS" ${ARGN})
+  # NO_INSTALL: a module left out of the installed package (the ROS one: its dependencies are
+  # not exported).
+  cmake_parse_arguments(ARG "NO_INSTALL" "NAME" "DEPS;TEST_DEPS" ${ARGN})
   set(dir ${CMAKE_CURRENT_SOURCE_DIR}/${ARG_NAME})
   file(GLOB srcs CONFIGURE_DEPENDS ${dir}/*.cc)
   file(GLOB tests CONFIGURE_DEPENDS ${dir}/*_test.cc)
@@ -41,13 +43,15 @@ function(planeloc_module)
   endif()
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${ARG_NAME})
   add_library(planeloc::${ARG_NAME} ALIAS ${target})
-  install(TARGETS ${target} EXPORT planelocTargets
-          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-  # The module's headers, without the test fixtures (*_test.h, *for_test.h, test_*.h).
-  install(DIRECTORY ${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/planeloc/${ARG_NAME}
-          FILES_MATCHING PATTERN "*.h"
-          PATTERN "*_test.h" EXCLUDE PATTERN "*for_test.h" EXCLUDE PATTERN "test_*.h" EXCLUDE)
+  if(NOT ARG_NO_INSTALL)
+    install(TARGETS ${target} EXPORT planelocTargets
+            ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+            LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+    # The module's headers, without the test fixtures (*_test.h, *for_test.h, test_*.h).
+    install(DIRECTORY ${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/planeloc/${ARG_NAME}
+            FILES_MATCHING PATTERN "*.h"
+            PATTERN "*_test.h" EXCLUDE PATTERN "*for_test.h" EXCLUDE PATTERN "test_*.h" EXCLUDE)
+  endif()
   if(PLANELOC_BUILD_FUZZ)
     foreach(fuzzer ${fuzzers})
       get_filename_component(fuzz_name ${fuzzer} NAME_WE)
