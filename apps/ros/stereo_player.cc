@@ -1,7 +1,7 @@
 // Test helper of planeloc_node (tests/ros_node_test.sh): plays the stereo frames of a bag written
-// by `planeloc convert kitti-to-bag` at a fixed rate (camera info first, then the two images of
-// each frame, stamps as recorded) and records what the node publishes: the poses of
-// ~odometry as KITTI lines, the count of latched plane markers and the last status.
+// by `planeloc convert kitti-to-bag` at a fixed rate (the camera info once 1 s ahead, then per
+// frame its camera info and two images, stamps as recorded) and records what the node publishes:
+// the poses of ~odometry as KITTI lines, the count of latched plane markers and the last status.
 //   planeloc_stereo_player BAG RATE_HZ NODE_NAMESPACE OUT_POSES TIMEOUT_S
 // Exit 0 when one pose came back per frame, 1 otherwise. C++17 (ROS 1 messages).
 #include <nav_msgs/Odometry.h>
@@ -49,6 +49,10 @@ int main(int argc, char** argv) {
     if (auto info = m.instantiate<sensor_msgs::CameraInfo>())
       frame.infos.emplace_back(m.getTopic(), info);
   }
+  if (frames.empty()) {
+    std::fprintf(stderr, "player: %s holds no message\n", argv[1]);
+    return 1;
+  }
   std::map<std::string, ros::Publisher> publishers;
   for (const auto& [time, frame] : frames) {
     for (const auto& [topic, image] : frame.images) {
@@ -90,6 +94,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "player: the node did not subscribe within %.0f s\n", timeout);
     return 1;
   }
+  // The camera info first, on its own: the node drops images until it has both (messages on
+  // different topics may arrive in any order).
+  for (const auto& [topic, info] : frames.begin()->second.infos) publishers[topic].publish(info);
+  ros::WallDuration(1.0).sleep();
   ros::WallRate rate(rate_hz);
   for (const auto& [time, frame] : frames) {
     for (const auto& [topic, info] : frame.infos) publishers[topic].publish(info);
