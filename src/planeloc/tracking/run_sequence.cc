@@ -149,7 +149,7 @@ void WriteReportFolder(const RunOptions& run, const RunSummary& summary,
   namespace fs = std::filesystem;
   const fs::path& dir = *run.report_dir;
   nlohmann::json meta = {{"mode", plane_map ? "planes" : "vo"},
-                         {"sequence", sequence.name()},
+                         {"sequence", run.source ? sequence.name() : run.sequence.string()},
                          {"format", run.format == TrajectoryFormat::kKitti ? "kitti" : "tum"},
                          {"frames", summary.frames}};
   WriteFileWhole(dir / "run.json", meta.dump(2) + '\n');
