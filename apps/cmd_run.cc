@@ -1,4 +1,4 @@
-// `planeloc run`: stereo visual odometry over a KITTI sequence (see docs/tracking.md).
+// `planeloc run`: stereo visual odometry over a KITTI sequence or a rosbag (see docs/tracking.md).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -9,18 +9,28 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "command_registry.h"
 #include "flags.h"
 #include "planeloc/tracking/run_sequence.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/safe_file.h"
+#ifdef PLANELOC_HAVE_ROS
+#include "planeloc/ros/bag_sequence.h"
+#endif
 
 namespace planeloc::cli {
 namespace {
 
 struct RunArgs {
   std::string sequence;
+  std::string bag;
+  std::string left_topic;
+  std::string right_topic;
+  std::vector<std::string> camera_info_topics;  // left, right
+  double pair_tolerance = 0.005;
+  bool assume_rectified = false;
   std::string init_pose_from;
   std::string init_pose;
   bool no_planes = false;
@@ -49,7 +59,35 @@ void PrepareReportDir(const std::string& dir) {
              "pass a folder in a writable place");
 }
 
+// The frames of --bag (rosbag input, built with ROS 1: cmake/PlanelocRos.cmake).
+std::shared_ptr<const StereoSource> OpenBag(const RunArgs& args) {
+#ifdef PLANELOC_HAVE_ROS
+  CheckInput(!args.left_topic.empty() && !args.right_topic.empty(), args.bag, 0,
+             "--bag needs the image topics",
+             "pass --left-topic and --right-topic (`rosbag info` lists the bag's topics)");
+  CheckFlag(AtLeast(args.pair_tolerance, 0.0), "--pair-tolerance", args.pair_tolerance,
+            "seconds >= 0", "e.g. --pair-tolerance 0.005");
+  ros::BagOptions options;
+  options.left_topic = args.left_topic;
+  options.right_topic = args.right_topic;
+  if (!args.camera_info_topics.empty()) {
+    options.left_info_topic = args.camera_info_topics.at(0);
+    options.right_info_topic = args.camera_info_topics.at(1);
+  }
+  options.pair_tolerance = args.pair_tolerance;
+  options.assume_rectified = args.assume_rectified;
+  return ros::BagSequence::Open(args.bag, options);
+#else
+  throw InputError(args.bag, 0, "this planeloc was built without ROS 1: no rosbag input",
+                   "install the ROS packages (scripts/setup.sh) and reconfigure (cmake -S . -B "
+                   "build), or convert the bag to a KITTI-layout folder");
+#endif
+}
+
 int Run(const RunArgs& args) {
+  CheckInput(args.sequence.empty() != args.bag.empty(), "", 0,
+             args.bag.empty() ? "no input given" : "--sequence and --bag given together",
+             "pass either --sequence (a KITTI-layout folder) or --bag (a ROS 1 bag)");
   if (args.planes.empty() && !args.no_planes) {
     throw InputError("", 0, "no plane map given",
                      "pass --planes planes.json (from `planeloc map planes`) or --no-planes "
@@ -66,10 +104,13 @@ int Run(const RunArgs& args) {
                     {"the settings echo (--out + .config.yaml)", args.out + ".config.yaml"}},
                    {{"--init-pose-from", args.init_pose_from},
                     {"--planes", args.planes},
-                    {"--config", args.config}});
+                    {"--config", args.config},
+                    {"--bag", args.bag}});
   if (!args.report_dir.empty()) PrepareReportDir(args.report_dir);
   RunOptions options;
   options.sequence = args.sequence;
+  if (!args.bag.empty()) options.source = OpenBag(args);
+  const std::string input = args.bag.empty() ? args.sequence : args.bag;
   options.cameras = ParseCameraChoice(args.cameras);
   if (!args.init_pose_from.empty()) {
     options.world_from_cam_initial = ReadFirstPose(args.init_pose_from);
@@ -164,7 +205,7 @@ int Run(const RunArgs& args) {
   spdlog::info("trajectory: {}", args.out);
   // A few skipped frames are bridged by the motion model; a trajectory mostly extrapolated is not
   // a result (e.g. a right camera that went black after frame 0).
-  CheckInput(2 * summary.skipped <= summary.frames, args.sequence, 0,
+  CheckInput(2 * summary.skipped <= summary.frames, input, 0,
              fmt::format("{} of {} frames were skipped (images missing, corrupt, blank or of "
                          "another size; the warnings above name them): the trajectory in {} is "
                          "mostly extrapolated",
@@ -179,8 +220,23 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
   CLI::App* cmd = app.add_subcommand(
       "run", "Track a stereo sequence (visual odometry, or localization in a plane map)");
   cmd->add_option("--sequence", args->sequence,
-                  "KITTI odometry sequence folder or raw drive folder")
-      ->required();
+                  "KITTI odometry sequence folder or raw drive folder (or --bag)");
+  cmd->add_option("--bag", args->bag,
+                  "ROS 1 bag of rectified stereo images (sensor_msgs/Image mono8/rgb8/bgr8 or "
+                  "CompressedImage) and their camera info (needs a build with ROS)");
+  cmd->add_option("--left-topic", args->left_topic, "--bag: the left camera's image topic");
+  cmd->add_option("--right-topic", args->right_topic, "--bag: the right camera's image topic");
+  cmd->add_option("--camera-info-topics", args->camera_info_topics,
+                  "--bag: LEFT RIGHT sensor_msgs/CameraInfo topics (default: each image topic's "
+                  "namespace + /camera_info)")
+      ->expected(2);
+  cmd->add_option("--pair-tolerance", args->pair_tolerance,
+                  "--bag: seconds between a left and a right header stamp of one stereo frame; "
+                  "images without a partner are counted and skipped")
+      ->capture_default_str();
+  cmd->add_flag("--assume-rectified", args->assume_rectified,
+                "--bag: the image topics are rectified although the camera info has the raw "
+                "camera's distortion D and rectification R (image_rect with the raw camera_info)");
   auto* from = cmd->add_option("--init-pose-from", args->init_pose_from,
                                "KITTI/TUM pose file whose first pose is frame 0's world_from_cam");
   auto* pose = cmd->add_option("--init-pose", args->init_pose,

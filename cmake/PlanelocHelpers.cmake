@@ -7,6 +7,8 @@
 # Every *_fuzz.cc is a libFuzzer target `planeloc_<file>` linked to the module, built only with
 # PLANELOC_BUILD_FUZZ (scripts/fuzz.sh).
 # Globbing (CONFIGURE_DEPENDS) lets a module grow a file without touching CMake.
+# Every module library is installed and exported as `planeloc::<name>` (cmake/planelocConfig.cmake.in);
+# in the build tree the same name is an alias, so the CLI and an installed consumer read alike.
 function(planeloc_compile_flags target)
   target_compile_options(${target} PRIVATE -Wall -Wextra)
   if(PLANELOC_WERROR)
@@ -15,7 +17,9 @@ function(planeloc_compile_flags target)
 endfunction()
 
 function(planeloc_module)
-  cmake_parse_arguments(ARG "" "NAME;SLOW_TESTS" "DEPS;TEST_DEPS" ${ARGN})
+  # NO_INSTALL: a module left out of the installed package (the ROS one: its dependencies are
+  # not exported).
+  cmake_parse_arguments(ARG "NO_INSTALL" "NAME;SLOW_TESTS" "DEPS;TEST_DEPS" ${ARGN})
   set(dir ${CMAKE_CURRENT_SOURCE_DIR}/${ARG_NAME})
   file(GLOB srcs CONFIGURE_DEPENDS ${dir}/*.cc)
   file(GLOB tests CONFIGURE_DEPENDS ${dir}/*_test.cc)
@@ -30,13 +34,26 @@ function(planeloc_module)
   if(NOT srcs)
     # A module that has only headers so far.
     add_library(${target} INTERFACE)
-    target_include_directories(${target} INTERFACE ${PROJECT_SOURCE_DIR}/src)
+    target_include_directories(${target} INTERFACE $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
+                                                   $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
     target_link_libraries(${target} INTERFACE ${ARG_DEPS})
   else()
     add_library(${target} STATIC ${srcs})
-    target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR}/src)
+    target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
+                                                $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
     target_link_libraries(${target} PUBLIC ${ARG_DEPS})
     planeloc_compile_flags(${target})
+  endif()
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${ARG_NAME})
+  add_library(planeloc::${ARG_NAME} ALIAS ${target})
+  if(NOT ARG_NO_INSTALL)
+    install(TARGETS ${target} EXPORT planelocTargets
+            ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+            LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+    # The module's headers, without the test fixtures (*_test.h, *for_test.h, test_*.h).
+    install(DIRECTORY ${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/planeloc/${ARG_NAME}
+            FILES_MATCHING PATTERN "*.h"
+            PATTERN "*_test.h" EXCLUDE PATTERN "*for_test.h" EXCLUDE PATTERN "test_*.h" EXCLUDE)
   endif()
   if(PLANELOC_BUILD_FUZZ)
     foreach(fuzzer ${fuzzers})

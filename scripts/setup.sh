@@ -15,6 +15,11 @@ PACKAGES=(
   # Open MPI: `mpirun -n N planeloc map planes --tiles ...` (issue 15; the build finds it and
   # turns PLANELOC_WITH_MPI on).
   libopenmpi-dev openmpi-bin
+  # ROS 1 (issue 14): rosbag input (`run --bag`, `convert kitti-to-bag`) and planeloc_node. The
+  # build works without them (cmake/PlanelocRos.cmake turns both off and says so).
+  ros-core-dev librosbag-dev libcv-bridge-dev libtf2-ros-dev ros-sensor-msgs ros-nav-msgs
+  libsensor-msgs-dev libnav-msgs-dev libvisualization-msgs-dev ros-visualization-msgs
+  python3-rosmaster
 )
 # libjs-three: three.js, inlined into the pages of `planeloc report`. chromium and python3-pil:
 # tests/report_browser_test.sh opens such a page headless and measures its screenshot.

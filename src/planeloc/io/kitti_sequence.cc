@@ -468,6 +468,12 @@ bool KittiSequence::HasFrame(std::size_t index) const {
   return IsFile(left_images_.at(index)) && IsFile(right_images_.at(index));
 }
 
+std::string KittiSequence::MissingFrame(std::size_t index) const {
+  if (!IsFile(left_images_.at(index))) return left_images_[index].string();
+  if (!IsFile(right_images_.at(index))) return right_images_[index].string();
+  return "";
+}
+
 StereoPair KittiSequence::LoadStereoPair(std::size_t index) const {
   StereoPair pair{LoadGreyImage(left_images_.at(index)), LoadGreyImage(right_images_.at(index))};
   CheckInput(

@@ -15,6 +15,7 @@
 
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
+#include "planeloc/io/stereo_source.h"
 
 namespace planeloc {
 
@@ -30,12 +31,7 @@ CameraChoice ParseCameraChoice(const std::string& name);
 
 enum class KittiLayout { kOdometry, kRaw };
 
-struct StereoPair {
-  cv::Mat left;   // CV_8UC1, rectified
-  cv::Mat right;  // CV_8UC1, rectified, same size as left
-};
-
-class KittiSequence {
+class KittiSequence : public StereoSource {
  public:
   // Detects the layout from the folder's contents. Reads calibration, timestamps (strictly
   // increasing) and the list of frames; decodes no image. Frame 0 must have both images, of the
@@ -45,19 +41,22 @@ class KittiSequence {
 
   KittiLayout layout() const { return layout_; }
   const std::filesystem::path& folder() const { return folder_; }
-  std::size_t size() const { return timestamps_.size(); }
+  std::string name() const override { return folder_.string(); }
+  std::size_t size() const override { return timestamps_.size(); }
   // Rectified stereo camera of the chosen pair, image size taken from the first left image.
-  const StereoCamera& camera() const { return camera_; }
+  const StereoCamera& camera() const override { return camera_; }
   // Seconds from the first frame (odometry: times.txt; raw: the date-time strings).
-  double timestamp(std::size_t index) const { return timestamps_.at(index); }
+  double timestamp(std::size_t index) const override { return timestamps_.at(index); }
   const std::vector<double>& timestamps() const { return timestamps_; }
   std::filesystem::path left_image_path(std::size_t index) const;
   std::filesystem::path right_image_path(std::size_t index) const;
   // Decodes frame `index`. Throws InputError if a file is missing, does not decode or is blank
   // (one grey value), or if left and right sizes differ from each other or from camera().
-  StereoPair LoadStereoPair(std::size_t index) const;
+  StereoPair LoadStereoPair(std::size_t index) const override;
   // True when both image files of frame `index` exist (for skipping missing frames mid-sequence).
-  bool HasFrame(std::size_t index) const;
+  bool HasFrame(std::size_t index) const override;
+  // The image file of frame `index` that is missing ("" when both exist).
+  std::string MissingFrame(std::size_t index) const override;
 
   // cam_from_velo: LiDAR (Velodyne) to the chosen left rectified camera frame, when calibrated
   // (odometry: `Tr` of calib.txt; raw: calib_velo_to_cam.txt with R_rect_00 and the camera offset).

@@ -144,12 +144,12 @@ EffectiveSettings Effective(const RunOptions& run, std::optional<SettingsFile> f
 }
 
 void WriteReportFolder(const RunOptions& run, const RunSummary& summary,
-                       const KittiSequence& sequence, const EffectiveSettings& effective,
+                       const StereoSource& sequence, const EffectiveSettings& effective,
                        const PlaneMap* plane_map) {
   namespace fs = std::filesystem;
   const fs::path& dir = *run.report_dir;
   nlohmann::json meta = {{"mode", plane_map ? "planes" : "vo"},
-                         {"sequence", run.sequence.string()},
+                         {"sequence", run.source ? sequence.name() : run.sequence.string()},
                          {"format", run.format == TrajectoryFormat::kKitti ? "kitti" : "tum"},
                          {"frames", summary.frames}};
   WriteFileWhole(dir / "run.json", meta.dump(2) + '\n');
@@ -276,9 +276,13 @@ RunSummary RunSequence(const RunOptions& run) {
     }
   }
   std::optional<SettingsFile> settings = ReadSettings(run);
-  const KittiSequence sequence = KittiSequence::Open(run.sequence, run.cameras);
-  CheckInput(sequence.size() > 0, run.sequence.string(), 0, "the sequence has no frames",
-             "point --sequence at a KITTI odometry sequence or raw drive folder");
+  std::shared_ptr<const StereoSource> source = run.source;
+  if (!source)
+    source = std::make_shared<KittiSequence>(KittiSequence::Open(run.sequence, run.cameras));
+  const StereoSource& sequence = *source;
+  CheckInput(sequence.size() > 0, sequence.name(), 0, "the sequence has no frames",
+             run.source ? "pass a source with stereo frames"
+                        : "point --sequence at a KITTI odometry sequence or raw drive folder");
   const EffectiveSettings effective = Effective(run, std::move(settings), sequence.camera());
   summary.options = effective.options;
   summary.camera = effective.camera;
@@ -302,10 +306,8 @@ RunSummary RunSequence(const RunOptions& run) {
   for (std::size_t i = 0; i < total; ++i) {
     std::optional<StereoPair> pair;
     if (!sequence.HasFrame(i)) {
-      const bool has_left = std::filesystem::is_regular_file(sequence.left_image_path(i));
-      spdlog::warn(
-          "frame {}: image missing ({}), pose from the motion model", i,
-          (has_left ? sequence.right_image_path(i) : sequence.left_image_path(i)).string());
+      spdlog::warn("frame {}: image missing ({}), pose from the motion model", i,
+                   sequence.MissingFrame(i));
     } else {
       try {
         pair = sequence.LoadStereoPair(i);

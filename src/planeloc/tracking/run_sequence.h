@@ -1,15 +1,18 @@
-// Tracks a whole KITTI-layout sequence: reads frames one at a time, writes one pose per frame
-// (flushed), optional per-frame JSON stats, and the effective settings next to the trajectory.
+// Tracks a whole sequence (a KITTI-layout folder or any StereoSource, e.g. a rosbag): reads frames
+// one at a time, writes one pose per frame (flushed), optional per-frame JSON stats, and the
+// effective settings next to the trajectory.
 // The controller behind `planeloc run`; it does no maths itself.
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/kitti_sequence.h"
+#include "planeloc/io/stereo_source.h"
 #include "planeloc/io/trajectory.h"
 #include "planeloc/tracking/settings.h"
 #include "planeloc/tracking/tracker.h"
@@ -19,6 +22,8 @@ namespace planeloc {
 struct RunOptions {
   std::filesystem::path sequence;  // KITTI odometry sequence folder or raw drive folder
   CameraChoice cameras = CameraChoice::kAuto;
+  // Frames from this source (e.g. a rosbag, ros/bag_sequence.h) instead of `sequence`.
+  std::shared_ptr<const StereoSource> source;
   Rigid3d world_from_cam_initial;         // pose of frame 0; the trajectory is in its frame
   std::filesystem::path trajectory_path;  // required
   TrajectoryFormat format = TrajectoryFormat::kKitti;
