@@ -18,6 +18,14 @@
 //
 // Point-to-plane (the paper's E_point-to-plane): for a fixed plane n . x + d = 0 (|n| = 1),
 //   r = (n . X + d) / sigma_plane                                           (1 row, metres/metres)
+// A plane of the map has its own error (registration, blur), the same for every point on it. As a
+// random effect, a window estimates a correction c = (offset, tilt_u, tilt_v) per plane, with the
+// prior c ~ N(0, diag(sigma_offset^2, sigma_tilt^2, sigma_tilt^2)): the corrected plane pivots
+// about an anchor a on the map plane (its centroid), n' = (n + tilt_u u + tilt_v v) / |.| with
+// (u, v, n) orthonormal, and
+//   r = (n' . (X - a) + offset) / sigma_point                               (1 row)
+//   r_prior = (offset / sigma_offset, tilt_u / sigma_tilt, tilt_v / sigma_tilt) (3 rows)
+// so N points on a plane tie their keyframes to the map once, through the prior, not N times.
 // The lambda weighting of the paper's total cost lambda * E_reproj + (1 - lambda) * E_plane is NOT
 // inside these functors: callers wrap each residual's loss in ceres::ScaledLoss(lambda) or
 // ceres::ScaledLoss(1 - lambda) (see window_ba.cc), so each functor stays a pure whitened residual.
@@ -28,6 +36,7 @@
 //                                                          (window BA)
 //   StereoPoseOnlyError / MonoPoseOnlyError           point fixed, analytic (OptimizePose)
 //   PointToPlaneError                                  templated autodiff functor
+//   PointToCorrectedPlaneError, PlaneCorrectionPrior   the plane's map error as a nuisance
 // Derivations and design notes: docs/optim.md.
 #pragma once
 
@@ -302,6 +311,71 @@ class PointToPlaneError {
   const Eigen::Vector3d normal_;
   const double d_;
   const double inv_sigma_;
+};
+
+// The point-to-plane residual against a map plane corrected by c (see the file comment).
+class PointToCorrectedPlaneError {
+ public:
+  // sigma in metres (> 0): the point's own uncertainty along the normal (not the map's).
+  PointToCorrectedPlaneError(const Plane& plane, const Eigen::Vector3d& anchor, double sigma)
+      : normal_(plane.normal), inv_sigma_(1.0 / sigma) {
+    // The anchor projected onto the plane, so that c = 0 is exactly the map plane.
+    anchor_ = anchor - plane.SignedDistance(anchor) * plane.normal;
+    const Eigen::Vector3d seed =
+        std::abs(normal_.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    u_ = normal_.cross(seed).normalized();
+    v_ = normal_.cross(u_);
+  }
+
+  template <typename T>
+  bool operator()(const T* const point, const T* const correction, T* residual) const {
+    T n[3], offset[3];
+    T norm2 = T(0);
+    for (int i = 0; i < 3; ++i) {
+      n[i] = T(normal_[i]) + correction[1] * T(u_[i]) + correction[2] * T(v_[i]);
+      offset[i] = point[i] - T(anchor_[i]);
+      norm2 += n[i] * n[i];
+    }
+    const T distance = (n[0] * offset[0] + n[1] * offset[1] + n[2] * offset[2]) / sqrt(norm2);
+    residual[0] = T(inv_sigma_) * (distance + correction[0]);
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Plane& plane, const Eigen::Vector3d& anchor,
+                                     double sigma) {
+    return new ceres::AutoDiffCostFunction<PointToCorrectedPlaneError, 1, 3, 3>(
+        new PointToCorrectedPlaneError(plane, anchor, sigma));
+  }
+  const Eigen::Vector3d& anchor() const { return anchor_; }
+
+ private:
+  Eigen::Vector3d normal_, anchor_, u_, v_;
+  double inv_sigma_;
+};
+
+// The prior of a plane correction c = (offset, tilt_u, tilt_v): c whitened by its sigmas.
+// sigma_tilt = 0 writes 0 for the tilt rows (the caller then holds the tilt at 0).
+class PlaneCorrectionPrior {
+ public:
+  PlaneCorrectionPrior(double sigma_offset, double sigma_tilt)
+      : inv_offset_(1.0 / sigma_offset), inv_tilt_(sigma_tilt > 0 ? 1.0 / sigma_tilt : 0.0) {}
+
+  template <typename T>
+  bool operator()(const T* const correction, T* residual) const {
+    residual[0] = T(inv_offset_) * correction[0];
+    residual[1] = T(inv_tilt_) * correction[1];
+    residual[2] = T(inv_tilt_) * correction[2];
+    return true;
+  }
+
+  // sigma_offset metres (> 0), sigma_tilt radians (>= 0).
+  static ceres::CostFunction* Create(double sigma_offset, double sigma_tilt) {
+    return new ceres::AutoDiffCostFunction<PlaneCorrectionPrior, 3, 3>(
+        new PlaneCorrectionPrior(sigma_offset, sigma_tilt));
+  }
+
+ private:
+  double inv_offset_, inv_tilt_;
 };
 
 }  // namespace planeloc

@@ -133,6 +133,33 @@ TEST(CostFunctions, HandComputedValues) {
   EXPECT_NEAR(EvaluateResidual(*to_plane, {on_side.data()})[0], 5.0, 1e-12);
 }
 
+// The corrected plane (the map's error as a nuisance): with c = 0 the plain point-to-plane
+// residual; the offset adds to the distance; a tilt pivots the plane about its anchor.
+TEST(CostFunctions, CorrectedPlaneHandComputedValues) {
+  const Plane ground(Eigen::Vector3d(0, 0, 1), 0);  // z = 0
+  // The anchor is projected onto the plane: (0, 0, 5) acts as the origin.
+  std::unique_ptr<ceres::CostFunction> cost(
+      PointToCorrectedPlaneError::Create(ground, Eigen::Vector3d(0, 0, 5), 0.1));
+  const Eigen::Vector3d above(3, 4, 0.25);
+  const Eigen::Vector3d none(0, 0, 0), offset(0.05, 0, 0);
+  EXPECT_NEAR(EvaluateResidual(*cost, {above.data(), none.data()})[0], 2.5, 1e-12);
+  EXPECT_NEAR(EvaluateResidual(*cost, {above.data(), offset.data()})[0], 3.0, 1e-12);
+  // Basis of z = 0: u = n x X = (0, 1, 0), v = n x u = (-1, 0, 0). A tilt t along v turns the
+  // normal to (-t, 0, 1) / sqrt(1 + t^2): the point (1, 0, 0) is then -t / sqrt(1 + t^2) off,
+  // and (0, 1, 0) (on the pivot axis) stays on the plane.
+  const double t = 0.01;
+  const Eigen::Vector3d tilt(0, 0, t), on_x(1, 0, 0), on_y(0, 1, 0);
+  EXPECT_NEAR(EvaluateResidual(*cost, {on_x.data(), tilt.data()})[0],
+              -t / std::sqrt(1 + t * t) / 0.1, 1e-12);
+  EXPECT_NEAR(EvaluateResidual(*cost, {on_y.data(), tilt.data()})[0], 0.0, 1e-12);
+
+  std::unique_ptr<ceres::CostFunction> prior(PlaneCorrectionPrior::Create(0.05, 0.01));
+  const Eigen::Vector3d c(0.1, 0.01, -0.02);
+  EXPECT_LT((EvaluateResidual(*prior, {c.data()}) - Eigen::Vector3d(2, 1, -2)).norm(), 1e-12);
+  std::unique_ptr<ceres::CostFunction> offset_only(PlaneCorrectionPrior::Create(0.05, 0));
+  EXPECT_LT((EvaluateResidual(*offset_only, {c.data()}) - Eigen::Vector3d(2, 0, 0)).norm(), 1e-12);
+}
+
 TEST(CostFunctions, PointBehindCameraFails) {
   const PinholeStereoIntrinsics k = SimpleIntrinsics();
   const PoseParams params(Rigid3d::Identity());
@@ -209,6 +236,11 @@ TEST(CostFunctions, JacobiansMatchNumericDifferentiation) {
     const Plane plane(Eigen::Vector3d(noise(rng), noise(rng), noise(rng)), noise(rng));
     std::unique_ptr<ceres::CostFunction> to_plane(PointToPlaneError::Create(plane, 0.05));
     ExpectGradientsMatch(*to_plane, {nullptr}, {x.data()});
+    const Eigen::Vector3d anchor(noise(rng), noise(rng), noise(rng));
+    const Eigen::Vector3d correction(0.05 * noise(rng), 0.01 * noise(rng), 0.01 * noise(rng));
+    std::unique_ptr<ceres::CostFunction> to_corrected(
+        PointToCorrectedPlaneError::Create(plane, anchor, 0.05));
+    ExpectGradientsMatch(*to_corrected, {nullptr, nullptr}, {x.data(), correction.data()});
   }
 }
 

@@ -53,8 +53,15 @@ struct WindowState {
   std::vector<int> obs_point;             // per observation: point index
   std::vector<bool> obs_stereo;           // per observation
   std::vector<const Plane*> point_plane;  // per point, nullptr when not on a plane
+  std::vector<int> point_correction;      // per point: index into corrections, -1 for none
   std::vector<std::unique_ptr<ceres::CostFunction>> reprojection_costs;  // per observation
   std::vector<std::unique_ptr<ceres::CostFunction>> plane_costs;         // per point or null
+  // Per corrected plane (WindowPlane::offset_sigma > 0): its parameters, prior and plane id.
+  std::vector<PointParams> corrections;
+  std::vector<std::unique_ptr<ceres::CostFunction>> correction_priors;
+  std::vector<int> correction_plane_id;
+  std::vector<bool> correction_holds_tilt;
+  std::vector<bool> correction_used;  // reached by a plane residual in some round
 };
 
 template <typename Id>
@@ -90,15 +97,43 @@ WindowState BuildState(const StereoCamera& camera, const WindowProblem& problem,
                        kf.cam_from_world.translation.y(), kf.cam_from_world.translation.z()});
   }
   const bool use_planes = options.lambda < 1.0;
+  std::vector<int> plane_correction(problem.planes.size(), -1);
+  for (std::size_t i = 0; use_planes && i < problem.planes.size(); ++i) {
+    const WindowPlane& plane = problem.planes[i];
+    if (!(std::isfinite(plane.offset_sigma) && plane.offset_sigma >= 0 &&
+          std::isfinite(plane.tilt_sigma) && plane.tilt_sigma >= 0 && plane.anchor.allFinite())) {
+      throw std::invalid_argument("SolveWindowBa: plane " + std::to_string(plane.id) +
+                                  " has a negative or non-finite correction sigma or anchor");
+    }
+    if (!(plane.offset_sigma > 0)) continue;
+    plane_correction[i] = static_cast<int>(s.corrections.size());
+    s.corrections.push_back({0, 0, 0});
+    s.correction_priors.emplace_back(
+        PlaneCorrectionPrior::Create(plane.offset_sigma, plane.tilt_sigma));
+    s.correction_plane_id.push_back(plane.id);
+    s.correction_holds_tilt.push_back(!(plane.tilt_sigma > 0));
+    s.correction_used.push_back(false);
+  }
   for (const WindowPoint& p : problem.points) {
     s.points.push_back({p.point_in_world.x(), p.point_in_world.y(), p.point_in_world.z()});
-    const Plane* plane = nullptr;
-    if (p.plane_id)
-      plane = &problem.planes[Lookup(plane_index, *p.plane_id, "plane")].plane_in_world;
-    s.point_plane.push_back(plane);
+    const WindowPlane* plane = nullptr;
+    int correction = -1;
+    if (p.plane_id) {
+      const int index = Lookup(plane_index, *p.plane_id, "plane");
+      plane = &problem.planes[index];
+      correction = plane_correction[index];
+    }
+    s.point_plane.push_back(plane != nullptr ? &plane->plane_in_world : nullptr);
+    s.point_correction.push_back(correction);
     const double sigma = p.plane_sigma > 0 ? p.plane_sigma : options.plane_sigma;
-    s.plane_costs.emplace_back(
-        use_planes && plane != nullptr ? PointToPlaneError::Create(*plane, sigma) : nullptr);
+    if (!use_planes || plane == nullptr) {
+      s.plane_costs.emplace_back(nullptr);
+    } else if (correction >= 0) {
+      s.plane_costs.emplace_back(
+          PointToCorrectedPlaneError::Create(plane->plane_in_world, plane->anchor, sigma));
+    } else {
+      s.plane_costs.emplace_back(PointToPlaneError::Create(plane->plane_in_world, sigma));
+    }
   }
   const PinholeStereoIntrinsics k = PinholeStereoIntrinsics::From(camera);
   for (const WindowObservation& o : problem.observations) {
@@ -154,6 +189,7 @@ struct RoundLosses {
       // Huber threshold in whitened units: plane_huber metres / plane_sigma metres.
       huber_plane = std::make_unique<ceres::HuberLoss>(options.plane_huber / options.plane_sigma);
       plane.reset(scaled(huber_plane.get(), 1.0 - options.lambda));
+      plane_prior.reset(scaled(nullptr, 1.0 - options.lambda));
     }
   }
   ceres::LossFunction* Mono() const { return mono ? mono.get() : huber_mono.get(); }
@@ -161,6 +197,7 @@ struct RoundLosses {
 
   std::unique_ptr<ceres::LossFunction> huber_mono, huber_stereo, huber_plane;
   std::unique_ptr<ceres::LossFunction> mono, stereo, plane;  // scaled; null when lambda = 1
+  std::unique_ptr<ceres::LossFunction> plane_prior;          // (1 - lambda), no kernel
 };
 
 struct RoundOutcome {
@@ -213,9 +250,30 @@ RoundOutcome SolveRound(const WindowProblem& problem, const WindowBaOptions& opt
   }
   RoundOutcome outcome;
   // A plane residual only for points that are also seen: alone it would fix 1 of 3 DoF.
+  ceres::SubsetManifold hold_tilt(3, {1, 2});
+  std::vector<bool> correction_added(s.corrections.size(), false);
   for (size_t p = 0; p < s.points.size(); ++p) {
     if (!point_added[p] || !s.plane_costs[p] || !active_plane[p]) continue;
-    ceres_problem.AddResidualBlock(s.plane_costs[p].get(), losses.plane.get(), s.points[p].data());
+    const int c = s.point_correction[p];
+    if (c < 0) {
+      ceres_problem.AddResidualBlock(s.plane_costs[p].get(), losses.plane.get(),
+                                     s.points[p].data());
+    } else {
+      double* correction = s.corrections[c].data();
+      ceres_problem.AddResidualBlock(s.plane_costs[p].get(), losses.plane.get(), s.points[p].data(),
+                                     correction);
+      if (!correction_added[c]) {
+        correction_added[c] = true;
+        s.correction_used[c] = true;
+        // The prior is part of the plane term: the same (1 - lambda) weight, no robust kernel
+        // (it is not a measurement that can be an outlier).
+        ceres_problem.AddResidualBlock(s.correction_priors[c].get(), losses.plane_prior.get(),
+                                       correction);
+        if (s.correction_holds_tilt[c]) ceres_problem.SetManifold(correction, &hold_tilt);
+        // Not eliminated with the points: it links many of them, like a pose.
+        ordering->AddElementToGroup(correction, 1);
+      }
+    }
     ++outcome.num_plane_residuals;
   }
   if (ceres_problem.NumResidualBlocks() == 0) return outcome;  // summary stays unusable
@@ -263,6 +321,7 @@ WindowBaResult SolveWindowBa(const StereoCamera& camera, const WindowProblem& pr
   WindowBaResult result;
   const std::vector<PoseParams> poses0 = s.poses;
   const std::vector<PointParams> points0 = s.points;
+  const std::vector<PointParams> corrections0 = s.corrections;
 
   RoundOutcome round1 = SolveRound(problem, options, active, active_plane, true, s);
   result.initial_cost = round1.summary.initial_cost;
@@ -278,6 +337,7 @@ WindowBaResult SolveWindowBa(const StereoCamera& camera, const WindowProblem& pr
   if (!result.usable) {  // numerical failure: hand back the input rather than a broken state
     s.poses = poses0;
     s.points = points0;
+    s.corrections = corrections0;
     result.final_cost = result.initial_cost;
   }
   result.observation_inlier = ClassifyObservations(s, options);
@@ -291,6 +351,11 @@ WindowBaResult SolveWindowBa(const StereoCamera& camera, const WindowProblem& pr
   for (size_t i = 0; i < problem.points.size(); ++i) {
     result.point_in_world[problem.points[i].id] =
         Eigen::Vector3d(s.points[i][0], s.points[i][1], s.points[i][2]);
+  }
+  for (size_t c = 0; c < s.corrections.size(); ++c) {
+    if (!s.correction_used[c]) continue;
+    const PointParams& x = s.corrections[c];
+    result.plane_correction[s.correction_plane_id[c]] = Eigen::Vector3d(x[0], x[1], x[2]);
   }
   return result;
 }

@@ -42,7 +42,14 @@ struct WindowObservation {
 
 struct WindowPlane {
   int id = 0;
-  Plane plane_in_world;  // fixed: the LiDAR prior
+  Plane plane_in_world;  // the LiDAR prior
+  // The plane's own map error as a nuisance the window estimates (cost_functions.h,
+  // PointToCorrectedPlaneError): offset_sigma > 0 adds a correction (offset, tilt) with these
+  // prior sigmas, and the points' plane_sigma is then their own uncertainty only.
+  // offset_sigma = 0: the plane is held fixed (the map taken as exact up to plane_sigma).
+  double offset_sigma = 0;                           // metres
+  double tilt_sigma = 0;                             // radians; 0 holds the tilt at 0 (offset only)
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // where the tilt pivots (the centroid)
 };
 
 struct WindowProblem {
@@ -84,6 +91,9 @@ struct WindowBaResult {
   double initial_cost = 0, final_cost = 0;
   bool usable = false;          // ceres::Solver::Summary::IsSolutionUsable
   int num_plane_residuals = 0;  // point-to-plane residuals in the last round
+  // Per corrected plane (WindowPlane::offset_sigma > 0) with residuals: its estimated correction
+  // (offset metres, tilt_u, tilt_v radians), by plane id.
+  std::map<int, Eigen::Vector3d> plane_correction;
 };
 
 WindowBaResult SolveWindowBa(const StereoCamera& camera, const WindowProblem& problem,

@@ -215,7 +215,17 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
         plane_ids.insert(*p.plane_id);
       }
     }
-    const int common = options.planes.common_mode_points;
+    const bool correct = options.planes.plane_correction;
+    for (std::size_t i = 0; active && correct && i < problem.points.size(); ++i) {
+      WindowPoint& p = problem.points[i];
+      if (!p.plane_id) continue;
+      // The map's part (rms, map sigma, bias) moves to the plane's correction prior; the
+      // fitted rms stays with the point as well (the surface's roughness about its plane).
+      const double rms = planes->plane(*p.plane_id).rms;
+      const double point_variance = p.plane_sigma * p.plane_sigma - map_variances[i];
+      p.plane_sigma = std::sqrt(std::max(point_variance, 0.0) + rms * rms);
+    }
+    const int common = correct ? 0 : options.planes.common_mode_points;
     for (std::size_t i = 0; active && common > 0 && i < problem.points.size(); ++i) {
       WindowPoint& p = problem.points[i];
       if (!p.plane_id) continue;
@@ -228,7 +238,15 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
     }
   }
   for (const int plane_id : plane_ids) {
-    problem.planes.push_back({plane_id, planes->plane(plane_id).plane_in_map});
+    const MapPlane& plane = planes->plane(plane_id);
+    WindowPlane window_plane{plane_id, plane.plane_in_map};
+    if (options.planes.plane_correction) {
+      const double sigma = planes->PlaneSigma(plane_id);
+      window_plane.offset_sigma = std::sqrt(std::max(sigma * sigma - plane.rms * plane.rms, 0.0));
+      window_plane.tilt_sigma = options.planes.correction_tilt_sigma_deg * std::numbers::pi / 180.0;
+      window_plane.anchor = plane.centroid;
+    }
+    problem.planes.push_back(window_plane);
   }
   return problem;
 }

@@ -37,6 +37,12 @@ void PlaneAssociationOptions::Check() const {
   if (!(map_sigma >= 0.0)) {
     throw OptionsError("PlaneAssociationOptions.map_sigma must be >= 0 (m)");
   }
+  if (!(std::isfinite(correction_tilt_sigma_deg) && correction_tilt_sigma_deg >= 0 &&
+        correction_tilt_sigma_deg <= 10)) {
+    throw OptionsError(
+        "PlaneAssociationOptions.correction_tilt_sigma_deg must be in [0, 10] degrees (0: the "
+        "correction holds the tilt)");
+  }
   if (!(pixel_sigma > 0.0)) {
     throw OptionsError("PlaneAssociationOptions.pixel_sigma must be > 0 (px)");
   }

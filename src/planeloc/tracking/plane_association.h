@@ -65,6 +65,14 @@ struct PlaneAssociationOptions {
   // more information than this many independent points would give (Planes.commonModePoints;
   // 0: off, every point counts as independent).
   int common_mode_points = 0;
+  // The plane's map error as a nuisance of each window (Planes.planeCorrection): the window BA
+  // estimates a correction (offset, tilt) per associated plane with the prior sigmas
+  // sqrt(map_sigma^2 + bias^2) and correction_tilt_sigma_deg (window_ba.h, WindowPlane), and a
+  // point's residual carries only its own sigma (n^T C n + rms^2). The exact form of what
+  // common_mode_points approximates (which it then replaces): N points on one plane tie the
+  // window to the map once, and a tilted plane cannot rotate the keyframes beyond its prior.
+  bool plane_correction = false;
+  double correction_tilt_sigma_deg = 0.5;  // degrees; 0: offset only
   // A map that can be wrong (Planes.bias*): statistics over points within stats_band metres
   // (inside the outline) whose own sigma along the normal is at most stats_max_point_sigma.
   // Metres: 0.5 let points of other surfaces near small planes dominate the median (a clean
