@@ -21,6 +21,7 @@
 #include "planeloc/map/map_options.h"
 #include "planeloc/map/map_planes.h"
 #include "planeloc/map/plane_map_eval.h"
+#include "planeloc/map/pose_refinement.h"
 #include "planeloc/util/safe_file.h"
 
 namespace planeloc::cli {
@@ -33,6 +34,15 @@ struct BuildArgs {
   std::string tiles_out;  // issue 15: tiles instead of one map file
   TilingOptions tiling;
   MapBuildOptions options;
+};
+
+struct RefineArgs {
+  std::string sequence;
+  std::string poses;
+  std::string out;
+  std::vector<double> prior_sigma;  // metres, degrees
+  MapBuildOptions build;
+  PoseRefinementOptions options;
 };
 
 struct PlanesArgs {
@@ -80,6 +90,37 @@ int RunBuild(const BuildArgs& args) {
   const PointCloud map = BuildMap(args.options, sequence, poses);
   WritePointCloud(args.out, map);
   spdlog::info("map build: wrote {} ({} points)", args.out, map.size());
+  return 0;
+}
+
+int RunRefine(RefineArgs args) {
+  if (!args.prior_sigma.empty()) {
+    const bool ok = args.prior_sigma.size() == 2 && AtLeast(args.prior_sigma[0], 1e-6) &&
+                    AtLeast(args.prior_sigma[1], 1e-6);
+    CheckFlag(ok, "--prior-sigma", fmt::format("{}", fmt::join(args.prior_sigma, " ")),
+              "two numbers > 0: the given poses' noise per axis in metres and degrees",
+              "e.g. --prior-sigma 0.05 0.2");
+    args.options.prior_sigma_translation = args.prior_sigma[0];
+    args.options.prior_sigma_rotation_deg = args.prior_sigma[1];
+  }
+  CheckFlag(args.build.every >= 1, "--every", args.build.every, "an integer >= 1 (1 = every scan)",
+            "e.g. --every 2");
+  CheckFlag(AtLeast(args.options.voxel_size, 0.01), "--icp-voxel", args.options.voxel_size,
+            "a voxel size in metres, >= 0.01", "e.g. --icp-voxel 0.2");
+  CheckOutputPaths({{"--out", args.out}}, {{"--poses", args.poses}});
+  const KittiSequence sequence = KittiSequence::Open(args.sequence);
+  const Trajectory poses = ReadKittiTrajectory(args.poses);
+  CheckInput(poses.size() == sequence.size(), args.poses, 0,
+             fmt::format("{} poses for the {} frames of {}", poses.size(), sequence.size(),
+                         sequence.folder().string()),
+             "give --poses the pose file of this sequence (one world_from_cam per frame)");
+  const PoseRefinementResult result = RefinePoses(args.build, args.options, sequence, poses);
+  WriteKittiTrajectory(args.out, result.poses);
+  spdlog::info(
+      "map refine-poses: {} scans, {} registrations ({} rejected); poses moved by {:.3f} m mean, "
+      "{:.3f} m max, {:.3f} deg mean; wrote {}",
+      result.scans, result.edges, result.rejected_edges, result.mean_correction,
+      result.max_correction, result.mean_correction_deg, args.out);
   return 0;
 }
 
@@ -214,6 +255,31 @@ CommandRunner SetupMap(CLI::App& app) {
   build->add_option("--max-range", build_args->options.max_range, "Drop farther points, metres")
       ->capture_default_str();
 
+  auto refine_args = std::make_shared<RefineArgs>();
+  auto* refine = map->add_subcommand(
+      "refine-poses",
+      "Refine noisy map poses (GNSS/INS) by registering each scan to its predecessors (ICP) in a "
+      "pose graph with the given poses as priors; writes KITTI poses for `map build`");
+  refine->add_option("--sequence", refine_args->sequence, "KITTI sequence folder with velodyne/")
+      ->required();
+  refine->add_option("--poses", refine_args->poses, "KITTI pose file (world_from_cam per frame)")
+      ->required();
+  refine->add_option("--out", refine_args->out, "Refined KITTI pose file")->required();
+  refine
+      ->add_option("--prior-sigma", refine_args->prior_sigma,
+                   "Noise of the given poses per axis: metres degrees (default 0.05 0.2)")
+      ->expected(2);
+  refine->add_option("--every", refine_args->build.every, "Use every N-th scan")
+      ->capture_default_str();
+  refine->add_option("--min-range", refine_args->build.min_range, "Drop closer points, metres")
+      ->capture_default_str();
+  refine->add_option("--max-range", refine_args->build.max_range, "Drop farther points, metres")
+      ->capture_default_str();
+  refine
+      ->add_option("--icp-voxel", refine_args->options.voxel_size,
+                   "Scans downsampled to this voxel for ICP, metres")
+      ->capture_default_str();
+
   auto planes_args = std::make_shared<PlanesArgs>();
   auto* planes = map->add_subcommand("planes", "Tensor voting and plane extraction -> planes.json");
   planes->add_option("--map", planes_args->map, "Map (.pcd, .ply or .xyz)");
@@ -265,8 +331,10 @@ CommandRunner SetupMap(CLI::App& app) {
   tile->add_option("--max-range", tile_args->build.max_range, "--sequence: metres")
       ->capture_default_str();
 
-  return [build, planes, tile, build_args, planes_args, tile_args, sigma, voxel]() {
+  return [build, planes, tile, refine, build_args, planes_args, tile_args, refine_args, sigma,
+          voxel]() {
     if (build->parsed()) return RunBuild(*build_args);
+    if (refine->parsed()) return RunRefine(*refine_args);
     if (tile->parsed()) return RunTile(*tile_args);
     if (planes->parsed()) return RunPlanes(*planes_args, sigma->count() > 0, voxel->count() > 0);
     return 2;
