@@ -320,7 +320,9 @@ def seed_command(run):
 
 
 def seeds_text(runs):
-    return ", ".join(str(r["seed"]) for r in runs)
+    """'seed 3' or 'seeds 3, 11, 21'."""
+    seeds = [str(r["seed"]) for r in runs]
+    return ("seed " if len(seeds) == 1 else "seeds ") + ", ".join(seeds)
 
 
 # (what, run, reference what, reference run, measure, kind)
@@ -359,7 +361,7 @@ def pipeline_pairs(data, tag):
                 continue
             value = mean_or_none([r.get(measure) for r in these])
             ref_value = mean_or_none([r.get(measure) for r in refs])
-            over = f"`{preset}`, mean over seeds {seeds_text(these)}"
+            over = f"`{preset}`, mean over {seeds_text(these)}"
             commands = (f"{code(seed_command(these[0]))}; reference "
                         f"{code(seed_command(refs[0]))}")
             rows.append([cell(what) + f" ({over})", commands, measure_text(value, measure),
@@ -392,7 +394,7 @@ def accuracy(data, tag):
             ate = mean_or_none([r["ate3d_m"] for r in these])
             has_drift = any("t_rel_percent" in r for r in these)
             rows.append([
-                f"`{preset}` ({'/'.join(map(str, frames))} frames, {path:.0f} m), seeds "
+                f"`{preset}` ({'/'.join(map(str, frames))} frames, {path:.0f} m), "
                 f"{seeds_text(these)}", label, code(seed_command(these[0])),
                 spread([r["ate3d_m"] for r in these], 3), spread([r["ate2d_m"] for r in these], 3),
                 spread([r.get("t_rel_percent") for r in these], 2) if has_drift
