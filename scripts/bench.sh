@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Builds Release, runs every benchmark and rewrites docs/benchmarks.md (issue 12 item 4).
 #
-# Usage: scripts/bench.sh [--quick] [--fresh] [--no-build]
+# Usage: scripts/bench.sh [--quick] [--fresh] [--no-build] [--drives "PRESET:SEED,... ..."]
 #   --quick     under 5 minutes on a 2-core machine: the simulator's `tiny` drive (one seed) and a
 #               subset of the Google Benchmark programs with short minimum times
 #   (default)   every benchmark; `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2 (about an
 #               hour, most of it kitti07-like's simulation and plane map, cached for later runs)
 #   --fresh     remake the cached simulator drives and plane maps (build/bench/data/)
 #   --no-build  use the binaries in the build folder as they are
+#   --drives    other simulated drives than the mode's, e.g. "small:3 kitti07-like:1" (the page
+#               says so)
 # Results: JSON in build/bench/ (scripts/bench_run.py), then docs/benchmarks.md written from them
 # by scripts/bench_report.py. Never edit a number of docs/benchmarks.md by hand: rerun this. On a
 # shared machine, run it under `nice -n 10`. PLANELOC_BUILD_DIR picks another build folder.
@@ -21,7 +23,8 @@ while [ $# -gt 0 ]; do
     --quick) run_args+=(--quick); shift ;;
     --fresh) run_args+=(--fresh); shift ;;
     --no-build) build=0; shift ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    --drives) run_args+=(--drives "$2"); shift 2 ;;
+    -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1' "$0"; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done

@@ -155,9 +155,13 @@ def header(meta):
     commit = meta["commit"] + (" with uncommitted changes" if meta.get("dirty") else "")
     if meta.get("commit_subject"):
         commit += f" ({meta['commit_subject']})"
-    mode = ("quick: the `tiny` drive, one seed; a subset of the benchmarks with short minimum "
-            "times" if meta["mode"] == "quick" else
-            "full: `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2; every benchmark")
+    drives = "; ".join(f"`{d['preset']}` seed{'s' if len(d['seeds']) > 1 else ''} "
+                       f"{', '.join(map(str, d['seeds']))}" for d in meta["drives"])
+    benchmarks = ("a subset of the benchmarks with short minimum times"
+                  if meta["mode"] == "quick" else "every benchmark")
+    mode = f"{meta['mode']}: drives {drives}" + (
+        " (chosen with --drives, not the mode's)" if meta.get("custom_drives") else "")
+    mode += f"; {benchmarks}"
     rows = [
         ["date (UTC)", f"{meta['start']} – {meta['end']}"],
         ["mode", f"{code(meta['command'])}, {mode}"],

@@ -21,6 +21,8 @@ programs with short minimum times; full mode runs every benchmark, small seeds 3
 kitti07-like seeds 1, 2 (about an hour, most of it kitti07-like's simulation and plane map).
 
 Usage: scripts/bench_run.py [--build build] [--out BUILD/bench] [--quick] [--fresh]
+                            [--drives "small:3,11,21 kitti07-like:1"]
+--drives replaces the mode's drives (the benchmarks stay the mode's); the page then says so.
 """
 import argparse
 import datetime
@@ -112,6 +114,20 @@ def cpu_model():
 
 def now_utc():
     return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+def parse_drives(text):
+    """'small:3,11 tiny:1' -> [("small", [3, 11]), ("tiny", [1])]."""
+    drives = []
+    for item in text.split():
+        preset, _, seeds = item.partition(":")
+        try:
+            drives.append((preset, [int(s) for s in seeds.split(",")]))
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"'{item}': expected PRESET:SEED[,SEED...]")
+    if not drives:
+        raise argparse.ArgumentTypeError("no drive given")
+    return drives
 
 
 def machine_and_commit(build_dir, quick):
@@ -304,6 +320,8 @@ def main():
     parser.add_argument("--out", help="results folder (default: BUILD/bench)")
     parser.add_argument("--quick", action="store_true", help="tiny drive, filtered benchmarks")
     parser.add_argument("--fresh", action="store_true", help="remake the cached drives")
+    parser.add_argument("--drives", type=parse_drives,
+                        help='instead of the mode\'s drives, e.g. "small:3,11,21 kitti07-like:1"')
     args = parser.parse_args()
     build = os.path.abspath(args.build)
     out = os.path.abspath(args.out or os.path.join(build, "bench"))
@@ -317,10 +335,16 @@ def main():
     shutil.rmtree(os.path.join(out, "gbench"), ignore_errors=True)
 
     meta = machine_and_commit(build, args.quick)
+    plan = args.drives or (QUICK_DRIVES if args.quick else FULL_DRIVES)
+    meta["drives"] = [{"preset": p, "seeds": seeds} for p, seeds in plan]
+    meta["custom_drives"] = args.drives is not None
+    if args.drives:
+        meta["command"] += " --drives " + shlex.quote(
+            " ".join(f"{p}:{','.join(map(str, seeds))}" for p, seeds in plan))
     started = time.monotonic()
     try:
         drives, runs = [], []
-        for preset, seeds in QUICK_DRIVES if args.quick else FULL_DRIVES:
+        for preset, seeds in plan:
             for seed in seeds:
                 drive = prepare_drive(planeloc, data_dir, preset, seed, args.fresh)
                 drives.append(drive)

@@ -55,7 +55,8 @@ class BenchReportTest(unittest.TestCase):
         for text in ("2026-12-02T09:00:00Z – 2026-12-02T09:04:00Z",  # dates
                      "Test CPU 9000, 2 logical CPUs", "abc1234 (fixture commit)",
                      "start 0.50 / 0.25 / 0.75; end 1.50 / 1.25 / 1.00",  # load averages
-                     "`scripts/bench.sh --quick`", "Release", "240 s"):
+                     "`scripts/bench.sh --quick`", "quick: drives `small` seeds 3, 11; a subset",
+                     "Release", "240 s"):
             self.assertIn(text, head)
         self.assertIn("never edit a number here by hand", head)
 
