@@ -419,12 +419,15 @@ def processes(data, tag):
     for drive in data["pipeline"]["drives"]:
         name = f"`{drive['preset']}` seed {drive['seed']}"
         for step in drive["steps"]:
-            cached = (f" (cached: made {step.get('date', '?')} at {step.get('commit', '?')})"
-                      if step.get("cached") else "")
+            cached, step_tag = "", tag
+            if step.get("cached"):  # measured when the step ran, by an earlier bench run
+                cached = f" (cached: made {step.get('date', '?')} at {step.get('commit', '?')})"
+                step_tag = run_tag(dict(data["meta"], start=step.get("date", "?"),
+                                        commit=step.get("commit", "?"), dirty=False))
             cpu = step["user_cpu_s"] + step["system_cpu_s"]
             rows.append([f"{name}: {step['step']}{cached}", code(step["command"]),
                          f"{step['wall_s']:.1f}", f"{cpu:.1f}", f"{step['peak_rss_mb']:.0f}", "—",
-                         tag])
+                         step_tag])
         for run in data["pipeline"]["runs"]:
             if run["preset"] != drive["preset"] or run["seed"] != drive["seed"]:
                 continue

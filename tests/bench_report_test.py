@@ -16,6 +16,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPT = os.path.join(HERE, "..", "scripts", "bench_report.py")
 FIXTURE = os.path.join(HERE, "bench_report_fixture")
 TAG = "2026-12-02, Test CPU 9000, 2 CPUs, abc1234"
+CACHED_TAG = "2026-12-01, Test CPU 9000, 2 CPUs, 0ld0ld0"  # steps made by an earlier run
 PAPER = "reported in the paper, not measured here"
 
 
@@ -67,8 +68,8 @@ class BenchReportTest(unittest.TestCase):
                     and "| measured |" not in line]
             self.assertTrue(rows, title)
             for line in rows:
-                self.assertTrue(line.endswith(f"| {TAG} |") or line.endswith(f"| {PAPER} |"),
-                                line)
+                tags = [TAG, PAPER] + ([CACHED_TAG] if "(cached: " in line else [])
+                self.assertTrue(any(line.endswith(f"| {t} |") for t in tags), line)
                 self.assertTrue("`build/bin/" in line or PAPER in line, line)
 
     def test_google_benchmark_ratios(self):
@@ -125,7 +126,9 @@ class BenchReportTest(unittest.TestCase):
     def test_processes_have_peak_rss(self):
         cells = self.row("Processes", "seed 11: map planes")
         self.assertEqual(cells[2:5], ["40.0", "61.0", "900"])  # wall, user 60 + system 1, RSS
-        self.assertIn("cached", self.row("Processes", "seed 3: map planes")[0])
+        cached = self.row("Processes", "seed 3: map planes")
+        self.assertIn("cached: made 2026-12-01T20:00:00Z at 0ld0ld0", cached[0])
+        self.assertEqual(cached[6], CACHED_TAG)
         self.assertNotIn("cached", cells[0])
         self.assertEqual(self.row("Processes", "seed 11: run vo-threaded")[4:6], ["111", "60.0"])
 
