@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "planeloc/features/line_segments.h"
+#include "planeloc/features/orb_extractor.h"
 #include "planeloc/features/stereo_matcher.h"
 #include "planeloc/features/test_images.h"
 
@@ -127,13 +128,17 @@ void BM_StereoMatchOnly(benchmark::State& state) {
 }
 BENCHMARK(BM_StereoMatchOnly)->Unit(benchmark::kMillisecond);
 
-// Reference point: OpenCV's own ORB (clustered features) with the same budget and pyramid.
+// Reference point: OpenCV's own ORB (clustered features) with the same budget and pyramid as
+// OrbOptions (scripts/bench.sh divides BM_OrbExtractOneImage/threads:1 by this).
 void BM_CvOrbDetectAndCompute(benchmark::State& state) {
   std::unique_ptr<tbb::global_control> control;
   LimitThreads(1, control);
   const Pair& pair = TestPair();
-  cv::Ptr<cv::ORB> orb = cv::ORB::create(2000, 1.2f, 8);
+  const OrbOptions options;
+  cv::Ptr<cv::ORB> orb = cv::ORB::create(
+      options.num_features, static_cast<float>(options.scale_factor), options.num_levels);
   size_t features = 0;
+  const double cpu_start = ProcessCpuMs();
   for (auto _ : state) {
     std::vector<cv::KeyPoint> keypoints;
     cv::Mat descriptors;
@@ -141,6 +146,8 @@ void BM_CvOrbDetectAndCompute(benchmark::State& state) {
     features = keypoints.size();
   }
   state.counters["features"] = static_cast<double>(features);
+  state.counters["budget"] = options.num_features;
+  state.counters["process_cpu_ms"] = (ProcessCpuMs() - cpu_start) / state.iterations();
 }
 BENCHMARK(BM_CvOrbDetectAndCompute)->Unit(benchmark::kMillisecond);
 

@@ -1,17 +1,39 @@
 #!/usr/bin/env bash
-# Builds and runs every benchmark program, writing Google Benchmark JSON to out/bench/<name>.json.
-# Results are recorded by hand in docs/benchmarks.md with the command that produced them.
-# Usage: scripts/bench.sh [name_filter]
+# Builds Release, runs every benchmark and rewrites docs/benchmarks.md (issue 12 item 4).
+#
+# Usage: scripts/bench.sh [--quick] [--fresh] [--no-build] [--drives "PRESET:SEED,... ..."]
+#   --quick     under 5 minutes on a 2-core machine: the simulator's `tiny` drive (one seed) and a
+#               subset of the Google Benchmark programs with short minimum times
+#   (default)   every benchmark; `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2 (about an
+#               hour, most of it kitti07-like's simulation and plane map, cached for later runs)
+#   --fresh     remake the cached simulator drives and plane maps (build/bench/data/)
+#   --no-build  use the binaries in the build folder as they are
+#   --drives    other simulated drives than the mode's, e.g. "small:3 kitti07-like:1" (the page
+#               says so)
+# Results: JSON in build/bench/ (scripts/bench_run.py), then docs/benchmarks.md written from them
+# by scripts/bench_report.py. Never edit a number of docs/benchmarks.md by hand: rerun this. On a
+# shared machine, run it under `nice -n 10`. PLANELOC_BUILD_DIR picks another build folder.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/scripts/setup.sh"
-"$root/scripts/build.sh"
-bin="${PLANELOC_BUILD_DIR:-$root/build}/bin"
-mkdir -p "$root/out/bench"
-for program in "$bin"/*_bench; do
-  name="$(basename "$program")"
-  if [ $# -gt 0 ] && [[ "$name" != *"$1"* ]]; then continue; fi
-  echo "=== $name"
-  "$program" --benchmark_format=console --benchmark_out="$root/out/bench/$name.json" \
-    --benchmark_out_format=json
+build_dir="${PLANELOC_BUILD_DIR:-$root/build}"
+run_args=()
+build=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --quick) run_args+=(--quick); shift ;;
+    --fresh) run_args+=(--fresh); shift ;;
+    --no-build) build=0; shift ;;
+    --drives) run_args+=(--drives "$2"); shift 2 ;;
+    -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1' "$0"; exit 0 ;;
+    *) echo "bench.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
 done
+start=$(date +%s)
+if [ "$build" = 1 ]; then
+  "$root/scripts/setup.sh"
+  PLANELOC_BUILD_DIR="$build_dir" "$root/scripts/build.sh"
+fi
+python3 "$root/scripts/bench_run.py" --build "$build_dir" --out "$build_dir/bench" "${run_args[@]}"
+python3 "$root/scripts/bench_report.py" --results "$build_dir/bench" \
+  --out "$root/docs/benchmarks.md"
+echo "bench.sh: $(($(date +%s) - start)) s in all (build included)"

@@ -11,7 +11,7 @@
 # Usage: scripts/bench_crease_gate.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
 #        [--maps "clean move0.2"] [--init-sigma "0 0 0"] [--variant both] [--side-tolerance PX]
 # The start is exact by default (--init-sigma "0 0 0": planes active from frame 0, as in the
-# wrong-map table of docs/benchmarks.md); "2 0.5 5" adds the map lock. --variant both|region|side:
+# wrong-map table of docs/experiments.md); "2 0.5 5" adds the map lock. --variant both|region|side:
 # the gate's tests used in the "on" runs (both by default; region: Planes.creaseGateSide 0;
 # side: Planes.creaseGateRegion 0); --side-tolerance PX sets Planes.creaseSideTolerancePx.
 set -euo pipefail

@@ -3,7 +3,7 @@
 // tangential distortion and Stereo.T_c1_c2) settings files describe them.
 //
 // The undistort-rectify maps are computed once (cv::initUndistortRectifyMap); each frame costs
-// one cv::remap per image (bilinear; cost in bench/rectify_bench.cc, docs/benchmarks.md). The
+// one cv::remap per image (bilinear; cost in bench/rectify_bench.cc, docs/experiments.md). The
 // rectified images have the raw images' size, and camera() is the rectified stereo camera
 // (P_left = K [I | 0], P_right = K [I | -fx b e_x]).
 #pragma once

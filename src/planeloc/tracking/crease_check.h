@@ -37,7 +37,7 @@ namespace planeloc {
 struct CreaseCheckOptions {
   PlaneCreaseOptions creases;
   LsdOptions lsd;  // its min_length_px is in level-0 pixels here
-  // ORB pyramid level LSD runs on (Planes.lsdLevel); see docs/benchmarks.md ("LSD level").
+  // ORB pyramid level LSD runs on (Planes.lsdLevel); see docs/experiments.md ("LSD level").
   int lsd_level = 1;
   int label_downsample = 4;  // label image cell, level-0 pixels
   double near_depth = 0.5;   // metres: nearer geometry is not rendered

@@ -100,7 +100,7 @@ struct PlaneAssociationOptions {
   // The crease gate (Planes.creaseGate, needs crease_check): a point is associated with a plane
   // only if its keypoint lies in the plane's image region and not across a confirmed crease
   // bounding it, in every checked keyframe observing it. Off: the ablation in
-  // docs/benchmarks.md ("LSD crease gate") found no gain.
+  // docs/experiments.md ("LSD crease gate") found no gain.
   bool crease_gate = false;
   // Its min_plane_area and region_margin are replaced by min_plane_area and polygon_margin.
   CreaseCheckOptions crease;

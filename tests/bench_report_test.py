@@ -1,0 +1,144 @@
+#!/usr/bin/env python3
+"""Test of scripts/bench_report.py (ctest `bench.report`): the page it writes from the fixed
+results in tests/bench_report_fixture/ carries the run's header fields on top and in every row,
+and its ratios and statistics equal the values computed by hand from the fixture (written below
+next to each check), not by re-running the script's own rules.
+
+Usage: tests/bench_report_test.py  (python3 -m unittest also works)
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPT = os.path.join(HERE, "..", "scripts", "bench_report.py")
+FIXTURE = os.path.join(HERE, "bench_report_fixture")
+TAG = "2026-12-02, Test CPU 9000, 2 CPUs, abc1234"
+CACHED_TAG = "2026-12-01, Test CPU 9000, 2 CPUs, 0ld0ld0"  # steps made by an earlier run
+PAPER = "reported in the paper, not measured here"
+
+
+def generate(results):
+    """(exit code, stderr, page) of the script run on a results folder."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "benchmarks.md")
+        proc = subprocess.run([sys.executable, SCRIPT, "--results", results, "--out", out],
+                              capture_output=True, text=True)
+        page = ""
+        if os.path.exists(out):
+            with open(out) as f:
+                page = f.read()
+    return proc.returncode, proc.stderr, page
+
+
+class BenchReportTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        code, stderr, cls.page = generate(FIXTURE)
+        assert code == 0, stderr
+
+    def section(self, title):
+        start = self.page.index("## " + title)
+        end = self.page.find("\n## ", start + 1)
+        return self.page[start:end if end > 0 else len(self.page)]
+
+    def row(self, section, *needles):
+        """The one table row of a section that contains every needle, split into cells."""
+        rows = [line for line in self.section(section).splitlines()
+                if line.startswith("| ") and all(n in line for n in needles)]
+        self.assertEqual(len(rows), 1, f"rows with {needles}: {rows}")
+        return [c.strip() for c in rows[0].strip("|").split(" | ")]
+
+    def test_header_has_the_run(self):
+        head = self.page[:self.page.index("\n## ")]
+        for text in ("2026-12-02T09:00:00Z – 2026-12-02T09:04:00Z",  # dates
+                     "Test CPU 9000, 2 logical CPUs", "abc1234 (fixture commit)",
+                     "start 0.50 / 0.25 / 0.75; end 1.50 / 1.25 / 1.00",  # load averages
+                     "`scripts/bench.sh --quick`", "quick: drives `small` seeds 3, 11; a subset",
+                     "Release", "240 s"):
+            self.assertIn(text, head)
+        self.assertIn("never edit a number here by hand", head)
+
+    def test_every_row_carries_run_and_command(self):
+        for title in ("Speed", "Pipeline", "Accuracy", "Processes", "Other"):
+            rows = [line for line in self.section(title).splitlines()
+                    if line.startswith("| ") and not line.startswith("| what |")
+                    and "| measured |" not in line]
+            self.assertTrue(rows, title)
+            for line in rows:
+                tags = [TAG, PAPER] + ([CACHED_TAG] if "(cached: " in line else [])
+                self.assertTrue(any(line.endswith(f"| {t} |") for t in tags), line)
+                self.assertTrue("`build/bin/" in line or PAPER in line, line)
+
+    def test_google_benchmark_ratios(self):
+        # ORB: process_cpu_ms 12.0 / 8.0 = 1.50 (not the main-thread cpu_time 11.0 / 7.5).
+        self.assertIn("**1.50**", self.row("Speed", "ORB extraction")[4])
+        # Tensor voting vs Open3D: process CPU 900 / 1000 ms = 0.90; mean error 2.0 / 2.5 = 0.80.
+        self.assertIn("**0.90**", self.row("Speed", "3 cm noise", "ball + 2")[4])
+        self.assertIn("**0.80**", self.row("Speed", "mean angle error")[4])
+        # Window BA lambda 0.5 / lambda 1: cpu_time 175 / 140 ms = 1.25.
+        self.assertIn("**1.25**", self.row("Speed", "SolveWindowBa")[4])
+        # Analytic vs autodiff: the median aggregate 100 ns (not the first repetition, 90, nor
+        # the mean, 110) / 400 ns = 0.25.
+        cells = self.row("Speed", "analytic")
+        self.assertIn("100 ns", cells[2])
+        self.assertIn("**0.25**", cells[4])
+        # Pairs whose benchmarks are absent from the run give no row.
+        self.assertNotIn("1 cm noise", self.section("Speed"))
+        self.assertNotIn("Morton", self.section("Speed"))
+
+    def test_pipeline_ratios(self):
+        # fps, means over seeds 3 and 11: plane threaded (30+50)/2 = 40, VO threaded (40+60)/2 =
+        # 50 -> 0.80; plane det (20+30)/2 = 25, VO det (25+35)/2 = 30 -> 0.83; threaded / det
+        # plane 40 / 25 = 1.60.
+        self.assertIn("**0.80**", self.row("Pipeline", "plane mode, threaded: frames")[4])
+        self.assertIn("**0.83**", self.row("Pipeline", "plane mode, `--deterministic`: fr")[4])
+        self.assertIn("**1.60**", self.row("Pipeline", "threaded local BA: frames")[4])
+        # ATE 3-D: plane threaded (0.11+0.13)/2 = 0.12 vs det (0.10+0.20)/2 = 0.15 -> 0.80;
+        # lambda 0.5 vs lambda 1: 0.15 / (0.40+0.60)/2 = 0.30.
+        cells = self.row("Pipeline", "plane mode, threaded local BA: ATE")
+        self.assertEqual(cells[2], "0.120 m")
+        self.assertIn("0.150 m", cells[3])
+        self.assertIn("**0.80**", cells[4])
+        self.assertIn("**0.30**", self.row("Pipeline", "λ = 0.5")[4])
+        self.assertIn("small-$SEED", cells[1])
+
+    def test_accuracy_statistics(self):
+        # Plane map, deterministic, ATE 3-D 0.10 and 0.20: mean 0.15, sample std
+        # sqrt(2 * 0.05^2 / 1) = 0.0707; ATE 2-D 0.08, 0.12: 0.10 +- 0.0283; t_rel 0.2, 0.4:
+        # 0.30 +- 0.141; ratio to VO det (0.40+0.60)/2 = 0.50: 0.30.
+        cells = self.row("Accuracy", "plane map, `--deterministic`")
+        self.assertIn("seeds 3, 11", cells[0])
+        self.assertEqual(cells[3], "0.150 ± 0.071 (0.100–0.200)")
+        self.assertEqual(cells[4], "0.100 ± 0.028 (0.080–0.120)")
+        self.assertEqual(cells[5], "0.30 ± 0.14 (0.20–0.40)")
+        self.assertEqual(cells[7], "**0.30**")
+        # Plane threaded 0.12 / VO threaded (0.42+0.58)/2 = 0.50 -> 0.24.
+        self.assertEqual(self.row("Accuracy", "plane map, threaded")[7], "**0.24**")
+        # The paper's KITTI-07: 0.564 m vs ORB-SLAM2 0.843 m, 0.564 / 0.843 = 0.669.
+        cells = self.row("Accuracy", "KITTI odometry 07")
+        self.assertIn("0.564 vs 0.843", cells[3])
+        self.assertEqual(cells[7], "**0.67**")
+        self.assertEqual(cells[8], PAPER)
+
+    def test_processes_have_peak_rss(self):
+        cells = self.row("Processes", "seed 11: map planes")
+        self.assertEqual(cells[2:5], ["40.0", "61.0", "900"])  # wall, user 60 + system 1, RSS
+        cached = self.row("Processes", "seed 3: map planes")
+        self.assertIn("cached: made 2026-12-01T20:00:00Z at 0ld0ld0", cached[0])
+        self.assertEqual(cached[6], CACHED_TAG)
+        self.assertNotIn("cached", cells[0])
+        self.assertEqual(self.row("Processes", "seed 11: run vo-threaded")[4:6], ["111", "60.0"])
+
+    def test_missing_results_fail_cleanly(self):
+        with tempfile.TemporaryDirectory() as empty:
+            code, stderr, page = generate(empty)
+        self.assertEqual(code, 2)
+        self.assertIn("meta.json", stderr)
+        self.assertEqual(page, "")
+
+
+if __name__ == "__main__":
+    unittest.main()
