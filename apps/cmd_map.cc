@@ -13,6 +13,7 @@
 #include "command_registry.h"
 #include "flags.h"
 #include "map_tiles_cli.h"
+#include "plane_map_eval_log.h"
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/io/point_cloud.h"
@@ -199,21 +200,7 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
         output.voxel_size > 0.0 ? output.voxel_size * output.voxel_size : 0.01;
     const PlaneMapEvaluation evaluation = EvaluatePlaneMap(
         output.points, output.extraction.point_plane, planes, ReadPlaneMap(args.gt), eval_options);
-    for (const GtPlaneMatch& m : evaluation.checked) {
-      if (!m.good) {
-        spdlog::warn(
-            "map planes: GT plane {} ({}, {:.0f} m^2 visible) not matched: extracted {} "
-            "(support {:.0f} %), angle {:.2f} deg, offset {:.3f} m",
-            m.gt_id, m.kind, m.visible_area, m.extracted_id, 100.0 * m.support, m.angle_deg,
-            m.offset);
-      }
-    }
-    spdlog::info(
-        "map planes vs {}: {}/{} GT ground/facade planes with >= {} m^2 visible matched "
-        "(< {} deg, < {} m); {:.2f} % of {} plane points within {} m of a GT plane",
-        args.gt, evaluation.good, evaluation.checked.size(), eval_options.min_visible_area,
-        eval_options.max_angle_deg, eval_options.max_offset, 100.0 * evaluation.labelled_on_gt,
-        evaluation.labelled_points, eval_options.labelled_distance);
+    LogPlaneMapEvaluation(args.gt, evaluation, eval_options);
     planes.stats["gt_evaluation"] = evaluation.ToJson();
   }
   WritePlaneMap(args.out, planes);

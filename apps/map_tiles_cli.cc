@@ -12,6 +12,7 @@
 
 #include "flags.h"
 #include "mpi_world.h"
+#include "plane_map_eval_log.h"
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/io/point_cloud.h"
@@ -184,12 +185,7 @@ int MergeAndWrite(const TiledPlanesArgs& args, const MapPlanesOptions& options,
   if (gt) {
     const PlaneMapEvaluation evaluation =
         FinishPlaneMapEvaluation(MergeTileTallies(tiles, merged), planes, *gt, eval_options);
-    spdlog::info(
-        "map planes vs {}: {}/{} GT ground/facade planes with >= {} m^2 visible matched "
-        "(< {} deg, < {} m); {:.2f} % of {} plane points within {} m of a GT plane",
-        args.gt, evaluation.good, evaluation.checked.size(), eval_options.min_visible_area,
-        eval_options.max_angle_deg, eval_options.max_offset, 100.0 * evaluation.labelled_on_gt,
-        evaluation.labelled_points, eval_options.labelled_distance);
+    LogPlaneMapEvaluation(args.gt, evaluation, eval_options);
     planes.stats["gt_evaluation"] = evaluation.ToJson();
   }
   WritePlaneMap(args.out, planes);
