@@ -4,6 +4,8 @@
 # normal, or rotated by 2 degrees; scripts/corrupt_planes.py); then ATE (no alignment: the map
 # fixes the frame) of `planeloc run --deterministic` with each map and with --no-planes (VO).
 # Also a "noisy" map: built from the GT poses with 5 cm / 0.2 deg noise (scripts/noisy_poses.py).
+# And "refined": the same noisy poses refined by `planeloc map refine-poses` (scan-to-scan ICP in a
+# pose graph with the noisy poses as priors) before the map is built.
 # Prints one table row per seed: seed vo clean move0.1 move0.2 move0.3 rot2 noisy (metres).
 #
 # Usage: scripts/bench_wrong_map.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
@@ -22,7 +24,7 @@ out=/tmp/planeloc-bench-wrong-map
 config=()
 tag=run
 init_sigma="0 0 0"
-kinds="vo clean move0.1 move0.2 move0.3 rot2 noisy"
+kinds="vo clean move0.1 move0.2 move0.3 rot2 noisy refined"
 while [ $# -gt 0 ]; do
   case "$1" in
     --preset) preset="$2"; shift 2 ;;
@@ -64,9 +66,20 @@ for seed in $seeds; do
       --seed "$seed" --fraction 0.2 "${arg[@]}" 2>>"$d/log.txt"
   done
   # Noisy map: the LiDAR map accumulated from poses with 5 cm / 0.2 deg noise per axis.
-  if [[ " $kinds " == *" noisy "* && ! -f "$d/planes_noisy.json" ]]; then
+  if [[ " $kinds " == *" noisy "* || " $kinds " == *" refined "* ]] &&
+    [ ! -f "$d/poses_noisy.txt" ]; then
     python3 "$root/scripts/noisy_poses.py" "$d/sim/poses/00.txt" "$d/poses_noisy.txt" \
       --seed "$seed" --sigma-t 0.05 --sigma-r-deg 0.2
+  fi
+  if [[ " $kinds " == *" refined "* && ! -f "$d/planes_refined.json" ]]; then
+    "$planeloc" map refine-poses --sequence "$d/sim/sequences/00" --poses "$d/poses_noisy.txt" \
+      --prior-sigma 0.05 0.2 --out "$d/poses_refined.txt" >>"$d/log.txt" 2>&1
+    "$planeloc" map build --sequence "$d/sim/sequences/00" --poses "$d/poses_refined.txt" \
+      --out "$d/map_refined.pcd" --voxel 0.10 >>"$d/log.txt" 2>&1
+    "$planeloc" map planes --map "$d/map_refined.pcd" --out "$d/planes_refined.json" \
+      >>"$d/log.txt" 2>&1
+  fi
+  if [[ " $kinds " == *" noisy "* && ! -f "$d/planes_noisy.json" ]]; then
     "$planeloc" map build --sequence "$d/sim/sequences/00" --poses "$d/poses_noisy.txt" \
       --out "$d/map_noisy.pcd" --voxel 0.10 >>"$d/log.txt" 2>&1
     "$planeloc" map planes --map "$d/map_noisy.pcd" --out "$d/planes_noisy.json" >>"$d/log.txt" 2>&1
