@@ -340,6 +340,16 @@ expect 2 "$work/five_poses.txt" "map build fewer poses than frames" "$work/m.pcd
   "$planeloc" map build --sequence "$seq" --poses "$work/five_poses.txt" --out "$work/m.pcd"
 expect 2 "$work/nope" "map build missing sequence" "$work/m.pcd" -- \
   "$planeloc" map build --sequence "$work/nope" --poses "$poses" --out "$work/m.pcd"
+# `map refine-poses` (issue 10): the same readers, its own flag and its output.
+expect 2 "$work/five_poses.txt" "map refine-poses fewer poses than frames" "$work/r.txt" -- \
+  "$planeloc" map refine-poses --sequence "$seq" --poses "$work/five_poses.txt" --out "$work/r.txt"
+expect 2 "$work/nope" "map refine-poses missing sequence" "$work/r.txt" -- \
+  "$planeloc" map refine-poses --sequence "$work/nope" --poses "$poses" --out "$work/r.txt"
+expect 2 "--prior-sigma" "map refine-poses --prior-sigma 0 0.2" "$work/r.txt" -- \
+  "$planeloc" map refine-poses --sequence "$seq" --poses "$poses" --out "$work/r.txt" \
+  --prior-sigma 0 0.2
+expect 2 "$dir/velodyne/000002.bin" "map refine-poses truncated scan" "$work/r.txt" -- \
+  "$planeloc" map refine-poses --sequence "$dir" --poses "$poses" --out "$work/r.txt"
 
 # ---------------------------------------------------------------------------------------------
 next_class "point clouds"
@@ -569,6 +579,8 @@ expect 2 "$work/full.pcd: cannot write the file: $nospace" "map build --out /dev
   "$planeloc" map build --sequence "$seq" --poses "$poses" --out "$work/full.pcd" --voxel 0.5
 expect 2 "/dev/full: cannot write the file: $nospace" "map planes --out /dev/full" -- \
   planes_to /dev/full
+expect 2 "/dev/full: cannot write the file: $nospace" "map refine-poses --out /dev/full" -- \
+  "$planeloc" map refine-poses --sequence "$seq" --poses "$poses" --out /dev/full
 expect 2 "$work/full.ply: cannot write the file: $nospace" "map planes --ply /dev/full" -- \
   "${mp[@]}" --ply "$work/full.ply"
 expect 2 "/dev/full: cannot write the file: $nospace" "eval --json /dev/full" -- \
