@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "command_registry.h"
 #include "flags.h"
@@ -59,16 +60,44 @@ struct PlanesArgs {
   std::vector<double> up;
 };
 
-int RunBuild(const BuildArgs& args) {
-  const MapBuildOptions& o = args.options;
-  CheckFlag(AtLeast(o.voxel_size, 0.0), "--voxel", o.voxel_size,
-            "a voxel size in metres, >= 0 (0 = keep every point)", "e.g. --voxel 0.1");
+// --every, --min-range, --max-range of the commands that read a sequence's scans.
+void CheckScanFlags(const MapBuildOptions& o) {
   CheckFlag(o.every >= 1, "--every", o.every, "an integer >= 1 (1 = every scan)", "e.g. --every 5");
   CheckFlag(AtLeast(o.min_range, 0.0), "--min-range", o.min_range, "a distance in metres, >= 0",
             "e.g. --min-range 2");
   CheckFlag(AtLeast(o.max_range, 0.0) && o.max_range > o.min_range, "--max-range", o.max_range,
             fmt::format("a distance in metres above --min-range ({})", o.min_range),
             "e.g. --max-range 60");
+}
+
+// --sequence with its --poses (one per frame), after checking that --out can be written.
+std::pair<KittiSequence, Trajectory> OpenSequenceWithPoses(const std::string& sequence_dir,
+                                                           const std::string& poses_path,
+                                                           const std::string& out) {
+  CheckOutputPaths({{"--out", out}}, {{"--poses", poses_path}});
+  KittiSequence sequence = KittiSequence::Open(sequence_dir);
+  Trajectory poses = ReadKittiTrajectory(poses_path);
+  CheckInput(poses.size() == sequence.size(), poses_path, 0,
+             fmt::format("{} poses for the {} frames of {}", poses.size(), sequence.size(),
+                         sequence.folder().string()),
+             "give --poses the pose file of this sequence (one world_from_cam per frame)");
+  return {std::move(sequence), std::move(poses)};
+}
+
+// --every, --min-range, --max-range on a command that reads a sequence's scans.
+void AddScanOptions(CLI::App* command, MapBuildOptions& options) {
+  command->add_option("--every", options.every, "Use every N-th scan")->capture_default_str();
+  command->add_option("--min-range", options.min_range, "Drop closer points, metres")
+      ->capture_default_str();
+  command->add_option("--max-range", options.max_range, "Drop farther points, metres")
+      ->capture_default_str();
+}
+
+int RunBuild(const BuildArgs& args) {
+  const MapBuildOptions& o = args.options;
+  CheckFlag(AtLeast(o.voxel_size, 0.0), "--voxel", o.voxel_size,
+            "a voxel size in metres, >= 0 (0 = keep every point)", "e.g. --voxel 0.1");
+  CheckScanFlags(o);
   CheckFlag(args.out.empty() != args.tiles_out.empty(), "--out/--tiles-out",
             args.out.empty() ? "(neither)" : "(both)", "a map file or a tiles folder, not both",
             "e.g. --out map.pcd, or --tiles-out tiles/ --tile-size 100 --overlap 5");
@@ -81,13 +110,7 @@ int RunBuild(const BuildArgs& args) {
     tile.build = args.options;
     return RunTile(tile);
   }
-  CheckOutputPaths({{"--out", args.out}}, {{"--poses", args.poses}});
-  const KittiSequence sequence = KittiSequence::Open(args.sequence);
-  const Trajectory poses = ReadKittiTrajectory(args.poses);
-  CheckInput(poses.size() == sequence.size(), args.poses, 0,
-             fmt::format("{} poses for the {} frames of {}", poses.size(), sequence.size(),
-                         sequence.folder().string()),
-             "give --poses the pose file of this sequence (one world_from_cam per frame)");
+  const auto [sequence, poses] = OpenSequenceWithPoses(args.sequence, args.poses, args.out);
   const PointCloud map = BuildMap(args.options, sequence, poses);
   WritePointCloud(args.out, map);
   spdlog::info("map build: wrote {} ({} points)", args.out, map.size());
@@ -104,17 +127,10 @@ int RunRefine(RefineArgs args) {
     args.options.prior_sigma_translation = args.prior_sigma[0];
     args.options.prior_sigma_rotation_deg = args.prior_sigma[1];
   }
-  CheckFlag(args.build.every >= 1, "--every", args.build.every, "an integer >= 1 (1 = every scan)",
-            "e.g. --every 2");
+  CheckScanFlags(args.build);
   CheckFlag(AtLeast(args.options.voxel_size, 0.01), "--icp-voxel", args.options.voxel_size,
             "a voxel size in metres, >= 0.01", "e.g. --icp-voxel 0.2");
-  CheckOutputPaths({{"--out", args.out}}, {{"--poses", args.poses}});
-  const KittiSequence sequence = KittiSequence::Open(args.sequence);
-  const Trajectory poses = ReadKittiTrajectory(args.poses);
-  CheckInput(poses.size() == sequence.size(), args.poses, 0,
-             fmt::format("{} poses for the {} frames of {}", poses.size(), sequence.size(),
-                         sequence.folder().string()),
-             "give --poses the pose file of this sequence (one world_from_cam per frame)");
+  const auto [sequence, poses] = OpenSequenceWithPoses(args.sequence, args.poses, args.out);
   const PoseRefinementResult result = RefinePoses(args.build, args.options, sequence, poses);
   WriteKittiTrajectory(args.out, result.poses);
   spdlog::info(
@@ -235,12 +251,7 @@ CommandRunner SetupMap(CLI::App& app) {
       ->capture_default_str();
   build->add_option("--voxel", build_args->options.voxel_size, "Voxel size, metres (0 = none)")
       ->capture_default_str();
-  build->add_option("--every", build_args->options.every, "Use every N-th scan")
-      ->capture_default_str();
-  build->add_option("--min-range", build_args->options.min_range, "Drop closer points, metres")
-      ->capture_default_str();
-  build->add_option("--max-range", build_args->options.max_range, "Drop farther points, metres")
-      ->capture_default_str();
+  AddScanOptions(build, build_args->options);
 
   auto refine_args = std::make_shared<RefineArgs>();
   auto* refine = map->add_subcommand(
@@ -256,12 +267,7 @@ CommandRunner SetupMap(CLI::App& app) {
       ->add_option("--prior-sigma", refine_args->prior_sigma,
                    "Noise of the given poses per axis: metres degrees (default 0.05 0.2)")
       ->expected(2);
-  refine->add_option("--every", refine_args->build.every, "Use every N-th scan")
-      ->capture_default_str();
-  refine->add_option("--min-range", refine_args->build.min_range, "Drop closer points, metres")
-      ->capture_default_str();
-  refine->add_option("--max-range", refine_args->build.max_range, "Drop farther points, metres")
-      ->capture_default_str();
+  AddScanOptions(refine, refine_args->build);
   refine
       ->add_option("--icp-voxel", refine_args->options.voxel_size,
                    "Scans downsampled to this voxel for ICP, metres")
