@@ -75,10 +75,7 @@ PointCloud MapAccumulator::Finish() {
   return map;
 }
 
-std::size_t ForEachScan(
-    const MapBuildOptions& options, const KittiSequence& sequence, const Trajectory& poses,
-    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink) {
-  options.Check();
+Rigid3d CheckScanSequence(const KittiSequence& sequence, const Trajectory& poses) {
   const std::string folder = sequence.folder().string();
   CheckInput(poses.size() == sequence.size(), folder, 0,
              "the poses have " + std::to_string(poses.size()) + " entries but the sequence has " +
@@ -87,7 +84,15 @@ std::size_t ForEachScan(
   CheckInput(sequence.cam_from_velo().has_value(), folder, 0,
              "the sequence has no LiDAR-to-camera calibration (Tr / calib_velo_to_cam.txt)",
              "use a sequence with its Velodyne calibration");
-  const Rigid3d cam_from_velo = *sequence.cam_from_velo();
+  return *sequence.cam_from_velo();
+}
+
+std::size_t ForEachScan(
+    const MapBuildOptions& options, const KittiSequence& sequence, const Trajectory& poses,
+    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink) {
+  options.Check();
+  const std::string folder = sequence.folder().string();
+  const Rigid3d cam_from_velo = CheckScanSequence(sequence, poses);
   std::size_t missing = 0, scans = 0;
   const std::size_t total = (sequence.size() + options.every - 1) / options.every;
   ProgressBar progress("map build", total, "scans");

@@ -60,6 +60,10 @@ class MapAccumulator {
 std::vector<Eigen::Vector3d> VoxelDownsample(const std::vector<Eigen::Vector3d>& points,
                                              double voxel_size);
 
+// The checks of every reader of a sequence's scans: one pose per frame and a LiDAR calibration.
+// Returns cam_from_velo; throws InputError naming the sequence folder otherwise.
+Rigid3d CheckScanSequence(const KittiSequence& sequence, const Trajectory& poses);
+
 // Reads every options.every-th scan of `sequence` and hands it (Velodyne frame) to `sink` with its
 // world_from_velo (poses: world_from_cam per frame). Returns the number of scans; throws InputError
 // if the counts differ, the sequence has no LiDAR calibration or no scan (frames without a scan

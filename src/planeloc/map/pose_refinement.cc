@@ -73,14 +73,7 @@ PoseRefinementResult RefinePoses(const MapBuildOptions& build, const PoseRefinem
   build.Check();
   options.Check();
   const std::string folder = sequence.folder().string();
-  CheckInput(poses.size() == sequence.size(), folder, 0,
-             "the poses have " + std::to_string(poses.size()) + " entries but the sequence has " +
-                 std::to_string(sequence.size()) + " frames",
-             "give the pose file of this sequence (one world_from_cam per frame)");
-  CheckInput(sequence.cam_from_velo().has_value(), folder, 0,
-             "the sequence has no LiDAR-to-camera calibration (Tr / calib_velo_to_cam.txt)",
-             "use a sequence with its Velodyne calibration");
-  const Rigid3d cam_from_velo = *sequence.cam_from_velo();
+  const Rigid3d cam_from_velo = CheckScanSequence(sequence, poses);
 
   int farthest = 1;
   for (const int k : options.neighbours) farthest = std::max(farthest, k);
