@@ -25,37 +25,27 @@ void PoseGraphOptions::Check() const {
 
 namespace {
 
-// r = whitened error of M^-1 * T for a pose T given as (q, t) blocks; see the header.
-template <typename T>
-void PoseError(const Eigen::Quaterniond& measured_rotation_inverse,
-               const Eigen::Vector3d& measured_translation_inverse,
-               const Eigen::Quaternion<T>& rotation, const Eigen::Matrix<T, 3, 1>& translation,
-               double inv_sigma_rotation, double inv_sigma_translation, T* residual) {
-  const Eigen::Quaternion<T> q_error = measured_rotation_inverse.cast<T>() * rotation;
-  const Eigen::Matrix<T, 3, 1> t_error =
-      measured_rotation_inverse.cast<T>() * translation + measured_translation_inverse.cast<T>();
-  // q and -q are the same rotation: take the one with w >= 0 so that vec(q) is the small one.
-  const T sign = q_error.w() < T(0) ? T(-1) : T(1);
-  for (int i = 0; i < 3; ++i) {
-    residual[i] = T(2.0 * inv_sigma_rotation) * sign * q_error.vec()[i];
-    residual[3 + i] = T(inv_sigma_translation) * t_error[i];
-  }
-}
-
-class PriorError {
+// A measured pose M with its sigmas; Residual writes the whitened error of M^-1 * T for a pose T
+// (see the header). Shared by the prior and the relative-pose functors.
+class WhitenedPoseError {
  public:
-  explicit PriorError(const PosePrior& prior)
-      : inverse_(prior.world_from_node.Inverse()),
-        inv_sigma_rotation_(1.0 / prior.sigma_rotation),
-        inv_sigma_translation_(1.0 / prior.sigma_translation) {}
+  WhitenedPoseError(const Rigid3d& measured, double sigma_translation, double sigma_rotation)
+      : inverse_(measured.Inverse()),
+        inv_sigma_rotation_(1.0 / sigma_rotation),
+        inv_sigma_translation_(1.0 / sigma_translation) {}
 
   template <typename T>
-  bool operator()(const T* const q, const T* const t, T* residual) const {
-    const Eigen::Quaternion<T> rotation(q[3], q[0], q[1], q[2]);
-    const Eigen::Matrix<T, 3, 1> translation(t[0], t[1], t[2]);
-    PoseError(inverse_.rotation, inverse_.translation, rotation, translation, inv_sigma_rotation_,
-              inv_sigma_translation_, residual);
-    return true;
+  void Residual(const Eigen::Quaternion<T>& rotation, const Eigen::Matrix<T, 3, 1>& translation,
+                T* residual) const {
+    const Eigen::Quaternion<T> r_inverse = inverse_.rotation.cast<T>();
+    const Eigen::Quaternion<T> q_error = r_inverse * rotation;
+    const Eigen::Matrix<T, 3, 1> t_error = r_inverse * translation + inverse_.translation.cast<T>();
+    // q and -q are the same rotation: take the one with w >= 0 so that vec(q) is the small one.
+    const T sign = q_error.w() < T(0) ? T(-1) : T(1);
+    for (int i = 0; i < 3; ++i) {
+      residual[i] = T(2.0 * inv_sigma_rotation_) * sign * q_error.vec()[i];
+      residual[3 + i] = T(inv_sigma_translation_) * t_error[i];
+    }
   }
 
  private:
@@ -63,32 +53,42 @@ class PriorError {
   double inv_sigma_rotation_, inv_sigma_translation_;
 };
 
-class RelativeError {
+class PriorError {
  public:
-  explicit RelativeError(const RelativePose& edge)
-      : inverse_(edge.from_from_to.Inverse()),
-        inv_sigma_rotation_(1.0 / edge.sigma_rotation),
-        inv_sigma_translation_(1.0 / edge.sigma_translation) {}
+  explicit PriorError(const PosePrior& prior)
+      : error_(prior.world_from_node, prior.sigma_translation, prior.sigma_rotation) {}
 
   template <typename T>
-  bool operator()(const T* const q_from, const T* const t_from, const T* const q_to,
-                  const T* const t_to, T* residual) const {
-    const Eigen::Quaternion<T> r_from(q_from[3], q_from[0], q_from[1], q_from[2]);
-    const Eigen::Quaternion<T> r_to(q_to[3], q_to[0], q_to[1], q_to[2]);
-    const Eigen::Matrix<T, 3, 1> p_from(t_from[0], t_from[1], t_from[2]);
-    const Eigen::Matrix<T, 3, 1> p_to(t_to[0], t_to[1], t_to[2]);
-    // from_from_to = world_from_from^-1 * world_from_to.
-    const Eigen::Quaternion<T> r_from_inverse = r_from.conjugate();
-    const Eigen::Quaternion<T> rotation = r_from_inverse * r_to;
-    const Eigen::Matrix<T, 3, 1> translation = r_from_inverse * (p_to - p_from);
-    PoseError(inverse_.rotation, inverse_.translation, rotation, translation, inv_sigma_rotation_,
-              inv_sigma_translation_, residual);
+  bool operator()(const T* const q, const T* const t, T* residual) const {
+    error_.Residual(Eigen::Quaternion<T>(q[3], q[0], q[1], q[2]),
+                    Eigen::Matrix<T, 3, 1>(t[0], t[1], t[2]), residual);
     return true;
   }
 
  private:
-  Rigid3d inverse_;
-  double inv_sigma_rotation_, inv_sigma_translation_;
+  WhitenedPoseError error_;
+};
+
+class RelativeError {
+ public:
+  explicit RelativeError(const RelativePose& edge)
+      : error_(edge.from_from_to, edge.sigma_translation, edge.sigma_rotation) {}
+
+  template <typename T>
+  bool operator()(const T* const q_from, const T* const t_from, const T* const q_to,
+                  const T* const t_to, T* residual) const {
+    // from_from_to = world_from_from^-1 * world_from_to.
+    const Eigen::Quaternion<T> from_inverse =
+        Eigen::Quaternion<T>(q_from[3], q_from[0], q_from[1], q_from[2]).conjugate();
+    const Eigen::Quaternion<T> world_from_to(q_to[3], q_to[0], q_to[1], q_to[2]);
+    const Eigen::Matrix<T, 3, 1> offset(t_to[0] - t_from[0], t_to[1] - t_from[1],
+                                        t_to[2] - t_from[2]);
+    error_.Residual(from_inverse * world_from_to, from_inverse * offset, residual);
+    return true;
+  }
+
+ private:
+  WhitenedPoseError error_;
 };
 
 bool PositiveSigmas(double sigma_translation, double sigma_rotation) {
