@@ -350,6 +350,11 @@ expect 2 "--prior-sigma" "map refine-poses --prior-sigma 0 0.2" "$work/r.txt" --
   --prior-sigma 0 0.2
 expect 2 "$dir/velodyne/000002.bin" "map refine-poses truncated scan" "$work/r.txt" -- \
   "$planeloc" map refine-poses --sequence "$dir" --poses "$poses" --out "$work/r.txt"
+# Poses that are not the scans' (every other one 2 m off along x): every registration is
+# rejected, and the given poses must not come back as "refined".
+awk '{ if (NR % 2) $4 += 2; print }' "$poses" >"$work/zigzag_poses.txt"
+expect 2 "$seq: none of the" "map refine-poses no registration passed" "$work/r.txt" -- \
+  "$planeloc" map refine-poses --sequence "$seq" --poses "$work/zigzag_poses.txt" --out "$work/r.txt"
 
 # ---------------------------------------------------------------------------------------------
 next_class "point clouds"

@@ -126,6 +126,21 @@ PoseRefinementResult RefinePoses(const MapBuildOptions& build, const PoseRefinem
   progress.Finish();
   CheckInput(!priors.empty(), folder, 0, "no Velodyne scan found in the sequence",
              "use a sequence with velodyne/*.bin scans");
+  // Without a registration the graph holds only the priors and would return the given poses as
+  // "refined": that is no result.
+  CheckInput(priors.size() < 2 || !edges.empty(), folder, 0,
+             fmt::format("none of the {} scan registrations passed (ICP fitness below {} or a "
+                         "correction beyond {} prior sigmas): nothing to refine the poses with",
+                         result.rejected_edges, options.min_fitness, options.max_prior_sigmas),
+             "check that --poses are this sequence's poses in its frame, that --prior-sigma is "
+             "not smaller than their error, and --min-range/--max-range");
+  if (result.rejected_edges > static_cast<int>(edges.size())) {
+    spdlog::warn(
+        "map refine-poses: {} of {} scan registrations of {} rejected; the poses are refined from "
+        "the {} that passed (check --poses and --prior-sigma)",
+        result.rejected_edges, result.rejected_edges + static_cast<int>(edges.size()), folder,
+        edges.size());
+  }
   const PoseGraphResult graph = SolvePoseGraph(priors, edges, options.graph);
   CheckInput(graph.usable, folder, 0, "the pose graph of the scans did not converge",
              "check the poses and their sigmas (--prior-sigma)");
