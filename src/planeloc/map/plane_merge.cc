@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <set>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -64,25 +65,13 @@ struct CellHash {
            (static_cast<std::size_t>(c.z()) * 83492791u);
   }
 };
-using Cells =
-    std::unordered_map<Eigen::Vector3i, std::vector<std::pair<int, Eigen::Vector3d>>, CellHash>;
-
-// True when a sample of `a` in cell `ca` lies within `radius` of a sample of `b` in cell `cb`.
-bool Touch(const std::vector<std::pair<int, Eigen::Vector3d>>& ca,
-           const std::vector<std::pair<int, Eigen::Vector3d>>& cb, int a, int b, double radius) {
-  for (const auto& [pa, sa] : ca) {
-    if (pa != a) continue;
-    for (const auto& [pb, sb] : cb) {
-      if (pb == b && (sa - sb).squaredNorm() <= radius * radius) return true;
-    }
-  }
-  return false;
-}
 
 // The total-least-squares plane of the core inliers of `members` (from their moments) holds each
-// member: its normal within merge_angle_deg and its core centroid within merge_distance. Stops a
-// chain of pairwise-coplanar pieces (a long road whose slope changes) from becoming one plane
-// that fits none of them, as the untiled robust refit would.
+// member: its normal within merge_angle_deg and its core centroid within inlier_distance / 2 (the
+// consensus band of the untiled robust fit, FitPlaneRobust). The untiled refit of a merged group
+// keeps one layer: a chain of pieces that are pairwise within merge_distance (a road whose height
+// changes along the drive) is not one plane. Two layers side by side are partly absorbed by a
+// tilt of the joint plane, so this bounds bumps and chains better than a single step.
 bool FitsAll(const std::vector<PieceRef>& pieces, const std::vector<int>& members,
              const PlaneExtractionOptions& options) {
   double count = 0.0;
@@ -104,69 +93,51 @@ bool FitsAll(const std::vector<PieceRef>& pieces, const std::vector<int>& member
   for (const int k : members) {
     const TilePiece& p = *pieces[k].piece;
     if (std::abs(n.dot(p.plane.plane_in_map.normal)) < cos_merge) return false;
-    if (std::abs(n.dot(p.core_mean - mean)) > options.merge_distance) return false;
+    if (std::abs(n.dot(p.core_mean - mean)) > 0.5 * options.inlier_distance) return false;
   }
   return true;
 }
 
-// Step 2: union-find over the pieces. Two pieces touch when samples of theirs lie within `radius`
-// (the untiled merge's adjacency: a shared neighbourhood, plus the sampling); pieces of one tile
-// are tested too, since the tile may have cut a plane the whole map would have kept in one piece.
-std::vector<int> JoinAdjacent(const std::vector<PieceRef>& pieces,
-                              const PlaneExtractionOptions& options, double radius) {
-  Cells cells;
+// Step 2: union-find over the pieces. Only a plane a border cut is re-joined: a piece of tile T
+// continues into the overlap band (its band samples), which is the core of a neighbour U, and
+// U's piece there holds core samples in the same outline cells (the same points, seen by both
+// tiles). Two pieces of one tile are never joined directly: the tile's own extraction, which saw
+// their whole neighbourhood, kept them apart by the untiled rules. Candidate pairs are taken in
+// (piece, piece) order, whatever the number of ranks.
+std::vector<int> JoinAcrossBorders(const std::vector<PieceRef>& pieces,
+                                   const PlaneExtractionOptions& options) {
+  const double cell = options.outline.cell_size;
+  auto key = [cell](const Eigen::Vector3d& s) {
+    return Eigen::Vector3i((s / cell).array().floor().cast<int>());
+  };
+  std::unordered_map<Eigen::Vector3i, std::vector<int>, CellHash> core_cells;
   for (std::size_t k = 0; k < pieces.size(); ++k) {
-    for (const auto& s : pieces[k].piece->samples) {
-      cells[Eigen::Vector3i((s / radius).array().floor().cast<int>())].emplace_back(k, s);
+    for (const auto& s : pieces[k].piece->samples) core_cells[key(s)].push_back(k);
+  }
+  std::set<std::pair<int, int>> shared;  // (a < b) sharing an outline cell
+  for (std::size_t a = 0; a < pieces.size(); ++a) {
+    for (const auto& s : pieces[a].piece->band_samples) {
+      const auto it = core_cells.find(key(s));
+      if (it == core_cells.end()) continue;
+      for (const int b : it->second) {
+        if (pieces[b].tile == pieces[a].tile) continue;
+        shared.insert(std::minmax(static_cast<int>(a), b));
+      }
     }
   }
   std::vector<int> parent(pieces.size());
   std::iota(parent.begin(), parent.end(), 0);
   std::vector<std::vector<int>> members(pieces.size());  // per root
   for (std::size_t k = 0; k < pieces.size(); ++k) members[k] = {static_cast<int>(k)};
-  auto join = [&](int a, int b) {
+  for (const auto& [a, b] : shared) {
     const int ra = Find(parent, a), rb = Find(parent, b);
+    if (ra == rb || !SamePlane(*pieces[a].piece, *pieces[b].piece, options)) continue;
     std::vector<int> both = members[ra];
     both.insert(both.end(), members[rb].begin(), members[rb].end());
-    if (!FitsAll(pieces, both, options)) return;
+    if (!FitsAll(pieces, both, options)) continue;
     parent[ra] = rb;
     members[rb] = std::move(both);
     members[ra].clear();
-  };
-  std::map<std::pair<int, int>, bool> same_plane;  // cached per piece pair
-  std::vector<const Cells::value_type*> order;     // cells in a fixed order: deterministic unions
-  for (const auto& entry : cells) order.push_back(&entry);
-  std::sort(order.begin(), order.end(), [](const auto* x, const auto* y) {
-    return std::lexicographical_compare(x->first.data(), x->first.data() + 3, y->first.data(),
-                                        y->first.data() + 3);
-  });
-  for (const auto* entry : order) {
-    std::vector<int> here;
-    for (const auto& [k, s] : entry->second) here.push_back(k);
-    std::sort(here.begin(), here.end());
-    here.erase(std::unique(here.begin(), here.end()), here.end());
-    for (int dx = -1; dx <= 1; ++dx) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = cells.find(entry->first + Eigen::Vector3i(dx, dy, dz));
-          if (it == cells.end()) continue;
-          std::vector<int> there;
-          for (const auto& [k, s] : it->second) there.push_back(k);
-          std::sort(there.begin(), there.end());
-          there.erase(std::unique(there.begin(), there.end()), there.end());
-          for (const int a : here) {
-            for (const int b : there) {
-              if (b <= a || Find(parent, a) == Find(parent, b)) continue;
-              auto [cached, inserted] = same_plane.try_emplace({a, b}, false);
-              if (inserted) {
-                cached->second = SamePlane(*pieces[a].piece, *pieces[b].piece, options);
-              }
-              if (cached->second && Touch(entry->second, it->second, a, b, radius)) join(a, b);
-            }
-          }
-        }
-      }
-    }
   }
   return parent;
 }
@@ -243,10 +214,7 @@ MergedPlanes MergeTilePlanes(const std::vector<TilePlanes>& tiles,
   for (std::size_t t = 0; t < tiles.size(); ++t) {
     for (const TilePiece& p : tiles[t].pieces) pieces.push_back({static_cast<int>(t), &p});
   }
-  // Samples are cell centroids: each stands for points up to half a cell diagonal away, so two
-  // pieces whose points are a neighbourhood radius apart have samples up to a diagonal farther.
-  const double reach = options.tensor_voting.radius() + std::sqrt(3.0) * pe.outline.cell_size;
-  std::vector<int> parent = JoinAdjacent(pieces, pe, reach);
+  std::vector<int> parent = JoinAcrossBorders(pieces, pe);
   std::vector<std::vector<int>> groups(pieces.size());
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     groups[Find(parent, static_cast<int>(k))].push_back(static_cast<int>(k));

@@ -2,13 +2,14 @@
 // plane map, as if the map had been processed whole.
 //
 //  1. up: the given one, or (detect_up) the up detected by most core points over the tiles;
-//  2. pieces join (union-find) when they are adjacent — a core sample of one within the
-//     tensor-voting radius (+ one outline-cell diagonal, the sampling) of a core sample of the
-//     other, across a border or in one tile (a tile
-//     may cut a plane that the whole map keeps in one piece) — and lie on the same plane by the
-//     untiled patch-merge test (normals within merge_angle_deg, each core centroid within
-//     merge_distance of the other's plane), and the group's joint fit still holds every member
-//     by the same test (no chain of pairwise-coplanar pieces along a road whose slope changes);
+//  2. pieces join (union-find) only where a tile border cut a plane: a piece of one tile
+//     continues into the overlap band (the neighbour's core), and the neighbour's piece holds
+//     core inliers in the same outline cells (the same points, extracted by both tiles); the two
+//     lie on the same plane by the untiled patch-merge test (normals within merge_angle_deg, each
+//     core centroid within merge_distance of the other's plane); and the group's joint fit holds
+//     every member within the untiled robust fit's consensus band (normals within
+//     merge_angle_deg, core centroids within inlier_distance / 2). Two pieces of one tile are not
+//     joined directly: the tile's extraction kept them apart by the untiled rules;
 //  3. a piece alone and complete (all its inliers in its core) is kept as the tile extracted it;
 //     any other group is refitted from its pieces' core moments (total least squares), outlined
 //     from their samples (plane_outline.h) and checked against the extraction's min_inliers,

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numbers>
 
+#include "planeloc/map/map_builder.h"
 #include "planeloc/map/map_planes.h"
 #include "planeloc/map/synthetic_scene_for_test.h"
 #include "planeloc/util/temp_dir.h"
@@ -86,6 +88,98 @@ TEST(MergeTilePlanesTest, DetectedUpIsTheMajorityOfTheTiles) {
   for (const MapPlane& p : tiled.plane_map.planes) {
     if (p.kind == "ground") {
       EXPECT_GT(p.plane_in_map.normal.z(), 0.99);
+    }
+  }
+}
+
+// Hand-made pieces for the join rule itself (tiles of 20 m along x, the border at x = 0; z up): a
+// ground piece z = `height` on a 0.1 m grid over [x0, x1) x [0, 6), its points with x inside
+// [core_x0, core_x1) in the core, the others in the overlap band (seen in the neighbour's core).
+TilePiece GroundPiece(int id, double x0, double x1, double height, double core_x0, double core_x1) {
+  std::vector<Eigen::Vector3d> all, core, band;
+  const int nx = static_cast<int>(std::lround((x1 - x0) / 0.1));
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < 60; ++j) {
+      const double x = x0 + 0.1 * (i + 0.5);
+      all.emplace_back(x, 0.1 * (j + 0.5), height);
+      (x >= core_x0 && x < core_x1 ? core : band).push_back(all.back());
+    }
+  }
+  TilePiece piece;
+  piece.plane.id = id;
+  piece.plane.plane_in_map =
+      Plane::FromPointAndNormal({0.0, 0.0, height}, Eigen::Vector3d::UnitZ());
+  piece.plane.kind = "ground";
+  piece.plane.centroid = {0.5 * (x0 + x1), 3.0, height};
+  piece.plane.inliers = static_cast<int>(all.size());
+  piece.plane.area = 6.0 * (x1 - x0);
+  piece.plane.polygon = {{x0, 0, height}, {x1, 0, height}, {x1, 6, height}, {x0, 6, height}};
+  piece.complete = band.empty();
+  piece.core_inliers = core.size();
+  for (const auto& p : core) piece.core_mean += p / static_cast<double>(core.size());
+  for (const auto& p : core) {
+    piece.core_scatter += (p - piece.core_mean) * (p - piece.core_mean).transpose();
+  }
+  piece.samples = VoxelDownsample(core, 0.25);
+  piece.band_samples = VoxelDownsample(band, 0.25);
+  return piece;
+}
+
+TilePlanes Tile(TileKey key, std::vector<TilePiece> pieces) {
+  TilePlanes tile;
+  tile.key = key;
+  tile.up = Eigen::Vector3d::UnitZ();
+  for (const TilePiece& p : pieces) tile.core_points += p.core_inliers;
+  tile.pieces = std::move(pieces);
+  return tile;
+}
+
+// A plane the border cuts: each tile extracted it with the overlap band, the band part is the
+// other tile's core part (the same cells). One plane again, with every core point.
+TEST(MergeTilePlanesTest, JoinsAPlaneTheBorderCuts) {
+  const std::vector<TilePlanes> tiles = {
+      Tile({-1, 0}, {GroundPiece(0, -10.0, 3.0, 0.0, -20.0, 0.0)}),
+      Tile({0, 0}, {GroundPiece(0, -3.0, 10.0, 0.0, 0.0, 20.0)})};
+  const MergedPlanes merged = MergeTilePlanes(tiles, Options());
+  ASSERT_EQ(merged.plane_map.planes.size(), 1u);
+  EXPECT_EQ(merged.plane_map.planes[0].inliers, 200 * 60);
+  // Outlined from the samples (cell centroids): half a cell short at each edge, (20 - 0.25) x
+  // (6 - 0.25) = 113.6 m^2 measured.
+  EXPECT_NEAR(merged.plane_map.planes[0].area, 113.6, 0.5);
+  EXPECT_EQ(merged.plane_map.stats["joined_groups"].get<int>(), 1);
+}
+
+// Coplanar pieces the untiled extraction keeps apart stay apart: 0.9 m apart across the border
+// (no point within the 0.75 m tensor-voting neighbourhood of the other's, and no shared band
+// cells; the former rule, samples within radius + one cell diagonal = 1.18 m, joined them), and
+// two pieces of one tile that its extraction kept apart (0.4 m apart).
+TEST(MergeTilePlanesTest, KeepsApartCoplanarPiecesTheExtractionKeptApart) {
+  const std::vector<TilePlanes> tiles = {
+      Tile({-1, 0}, {GroundPiece(0, -10.0, -0.4, 0.0, -20.0, 0.0)}),
+      Tile({0, 0}, {GroundPiece(0, 0.4, 10.0, 0.0, 0.0, 20.0),
+                    GroundPiece(1, 10.3, 19.0, 0.0, 0.0, 20.0)})};
+  const MergedPlanes merged = MergeTilePlanes(tiles, Options());
+  EXPECT_EQ(merged.plane_map.planes.size(), 3u);
+  EXPECT_EQ(merged.plane_map.stats["joined_groups"].get<int>(), 0);
+}
+
+// The joint fit holds each piece within the consensus band of the untiled robust fit
+// (inlier_distance / 2 = 0.04 m): a road cut by two borders whose middle section (tile 0) is 9 cm
+// higher than the two ends, each step within merge_distance (0.10 m), is not one plane that
+// fits none of them (the former tolerance, merge_distance, made it one: the middle section's
+// centroid is 0.06 m off that plane). A 2 cm bump is one plane (0.013 m off).
+TEST(MergeTilePlanesTest, JointFitHoldsEachPieceWithinTheConsensusBand) {
+  for (const double bump : {0.02, 0.09}) {
+    const std::vector<TilePlanes> tiles = {
+        Tile({-1, 0}, {GroundPiece(0, -18.0, 3.0, 0.0, -20.0, 0.0)}),
+        Tile({0, 0}, {GroundPiece(0, -3.0, 23.0, bump, 0.0, 20.0)}),
+        Tile({1, 0}, {GroundPiece(0, 17.0, 38.0, 0.0, 20.0, 40.0)})};
+    const MergedPlanes merged = MergeTilePlanes(tiles, Options());
+    if (bump < 0.05) {
+      ASSERT_EQ(merged.plane_map.planes.size(), 1u);
+      EXPECT_EQ(merged.plane_map.planes[0].inliers, 560 * 60);  // the cores: 56 m x 6 m
+    } else {
+      EXPECT_EQ(merged.plane_map.planes.size(), 2u);  // two sections joined, the third apart
     }
   }
 }

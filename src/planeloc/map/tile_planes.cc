@@ -61,10 +61,11 @@ TilePiece MakePiece(const MapPlane& plane, const std::vector<Eigen::Vector3d>& p
                     double cell_size) {
   TilePiece piece;
   piece.plane = plane;
-  std::vector<Eigen::Vector3d> core;
+  std::vector<Eigen::Vector3d> core, band;
   for (const int i : inliers) {
-    if (grid.InCore(key, points[i])) core.push_back(points[i]);
+    (grid.InCore(key, points[i]) ? core : band).push_back(points[i]);
   }
+  piece.band_samples = VoxelDownsample(band, cell_size);
   piece.complete = core.size() == inliers.size();
   piece.core_inliers = core.size();
   if (core.empty()) return piece;
@@ -91,7 +92,8 @@ nlohmann::json TilePlanes::ToJson() const {
                            {"core_inliers", p.core_inliers},
                            {"core_mean", planeloc::ToJson(p.core_mean)},
                            {"core_scatter", {s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2)}},
-                           {"samples", PointsToJson(p.samples)}});
+                           {"samples", PointsToJson(p.samples)},
+                           {"band_samples", PointsToJson(p.band_samples)}});
   }
   json.update({{"points", points},
                {"core_points", core_points},
@@ -124,6 +126,7 @@ TilePlanes TilePlanes::FromJson(const nlohmann::json& json) {
     p.core_scatter << s.at(0), s.at(1), s.at(2), s.at(1), s.at(3), s.at(4), s.at(2), s.at(4),
         s.at(5);
     p.samples = PointsFromJson(j.at("samples"));
+    p.band_samples = PointsFromJson(j.at("band_samples"));
     tile.pieces.push_back(std::move(p));
   }
   if (json.contains("gt")) tile.gt = PlaneMapTally::FromJson(json.at("gt"));

@@ -7,7 +7,8 @@
 // TilePiece: its description as extracted (kept verbatim when every inlier lies in the core), and
 // its core inliers summarized by their count, mean and scatter (the total-least-squares fit of a
 // union of pieces needs nothing else) and by one sample per occupied outline cell (for the
-// outline of a merged plane and the adjacency test across a border).
+// outline of a merged plane); its inliers in the overlap band by one sample per cell too (for the
+// test across a border: the band is the neighbours' core, seen by both tiles).
 #pragma once
 
 #include <Eigen/Core>
@@ -32,6 +33,10 @@ struct TilePiece {
   Eigen::Vector3d core_mean = Eigen::Vector3d::Zero();     // map frame, metres
   Eigen::Matrix3d core_scatter = Eigen::Matrix3d::Zero();  // sum (x - mean)(x - mean)^T, m^2
   std::vector<Eigen::Vector3d> samples;  // core inliers averaged per outline cell (map frame)
+  // The inliers outside the core (in the overlap band, the neighbours' cores) averaged per
+  // outline cell: where this piece continues into a neighbour, the cells it shares with the
+  // neighbour's piece there (the merge's evidence that the two are one plane cut by the border).
+  std::vector<Eigen::Vector3d> band_samples;
 };
 
 struct TilePlanes {
