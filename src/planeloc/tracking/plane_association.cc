@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -42,6 +43,10 @@ void PlaneAssociationOptions::Check() const {
     throw OptionsError(
         "PlaneAssociationOptions.correction_tilt_sigma_deg must be in [0, 10] degrees (0: the "
         "correction holds the tilt)");
+  }
+  if (!(std::isfinite(bias_peer_angle_deg) && bias_peer_angle_deg >= 0 &&
+        bias_peer_angle_deg < 90)) {
+    throw OptionsError("PlaneAssociationOptions.bias_peer_angle_deg must be in [0, 90) degrees");
   }
   if (!(pixel_sigma > 0.0)) {
     throw OptionsError("PlaneAssociationOptions.pixel_sigma must be > 0 (px)");
@@ -249,15 +254,19 @@ std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& 
   bool ambiguous = false;
   ForCandidates(x, [&](std::size_t index) {
     const FlatPlane& flat = planes_[index];
-    if (flat.health.disabled) return true;
     const Plane& plane = flat.plane.plane_in_map;
-    const double s = plane.SignedDistance(x);
+    // A disabled plane still stands for a surface where its points were seen (its plane moved
+    // by their median): a point on that surface is not given to a neighbouring plane whose gate
+    // it also passes (a sidewalk 8 cm above a disabled road would otherwise take the road's
+    // points near the kerb and lift the camera).
+    if (flat.health.disabled && !options_.disabled_planes_block) return true;
+    const double s = plane.SignedDistance(x) - (flat.health.disabled ? flat.health.median : 0.0);
     if (std::abs(s) > options_.max_distance) return true;
     const double map_variance = Variance(flat);
     const double variance = plane.normal.dot(estimate.covariance * plane.normal) + map_variance;
     if (s * s > options_.gate_chi2 * variance) return true;
     if (!InsideOutline(flat, x)) return true;
-    if (found && found->plane_id != flat.plane.id) {
+    if (flat.health.disabled || (found && found->plane_id != flat.plane.id)) {
       ambiguous = true;
       return false;
     }
@@ -282,9 +291,19 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
   bool ambiguous = false;
   ForCandidates(x, [&](std::size_t index) {
     const FlatPlane& flat = planes_[index];
-    if (flat.health.disabled) return true;
     const Plane& plane = flat.plane.plane_in_map;
-    const double s = plane.SignedDistance(x);
+    // A disabled plane, moved by its median, blocks as in Associate (no statistics of its own).
+    if (flat.health.disabled && !options_.disabled_planes_block) return true;
+    const double s = plane.SignedDistance(x) - (flat.health.disabled ? flat.health.median : 0.0);
+    if (flat.health.disabled) {
+      const double variance = plane.normal.dot(estimate.covariance * plane.normal) + Variance(flat);
+      if (std::abs(s) > options_.max_distance || s * s > options_.gate_chi2 * variance ||
+          !InsideOutline(flat, x)) {
+        return true;
+      }
+      ambiguous = true;
+      return false;
+    }
     if (std::abs(s) > options_.stats_band) return true;
     const double point_variance = plane.normal.dot(estimate.covariance * plane.normal);
     if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) {
@@ -314,10 +333,13 @@ int PlaneAssociator::UpdateHealth(int associations) {
   }
   int disabled_now = 0, judged = 0;
   std::vector<double> values;
-  for (FlatPlane& flat : planes_) {
+  std::vector<std::size_t> touched;  // planes with points in this window, statistics updated
+  for (std::size_t index = 0; index < planes_.size(); ++index) {
+    FlatPlane& flat = planes_[index];
     if (flat.health.points >= options_.bias_min_points) ++judged;
     if (!flat.touched || flat.health.disabled) continue;
     flat.touched = false;
+    touched.push_back(index);
     values.clear();
     for (const auto& [id, s] : flat.distance_by_point) values.push_back(s);
     const std::size_t n = values.size();
@@ -335,24 +357,80 @@ int PlaneAssociator::UpdateHealth(int associations) {
     health.median = median;
     health.standard_error = 1.2533 * sigma / std::sqrt(static_cast<double>(n));
     if (!was_judged && health.points >= options_.bias_min_points) ++judged;
-    // What the trajectory's own error in the map frame can explain of the bias.
+  }
+  const double cos_peer = std::cos(options_.bias_peer_angle_deg * std::numbers::pi / 180.0);
+  std::vector<std::pair<double, double>> witnesses;  // (offset along the normal, sigma)
+  for (const std::size_t index : touched) {
+    FlatPlane& flat = planes_[index];
+    PlaneHealth& health = flat.health;
     const Eigen::Vector3d& normal = flat.plane.plane_in_map.normal;
-    const double trajectory_variance = std::max(0.0, normal.dot(trajectory_covariance_ * normal));
-    const double unexplained = std::max(0.0, std::abs(median) - std::sqrt(trajectory_variance));
-    // Down-weighting: from half the points needed to disable, the bias joins the plane sigma.
+    // The trajectory's own error e in the map frame moves every plane's points by n.e. A plane
+    // is judged by witnesses: the trajectory as it is (offset 0; the only one before) and its
+    // peers in this window (planes of about the same normal with enough points, offset n_k.n_j
+    // times their median). Its bias is its offset from their median: one wrong peer cannot make
+    // a right plane look wrong, and a trajectory that drifted along the normal is seen by all. A
+    // plane without peers is judged by the trajectory alone, which can be the one that is off: with
+    // bias_peers it is only down-weighted, never moved or disabled (an end wall across a
+    // straight street, the only along-track hold, would otherwise be given up exactly when
+    // along-track drift needs it).
+    witnesses.assign(1,
+                     {0.0, std::sqrt(std::max(0.0, normal.dot(trajectory_covariance_ * normal)))});
+    for (const std::size_t other : touched) {
+      if (!options_.bias_peers) break;
+      const FlatPlane& peer = planes_[other];
+      if (other == index || 2 * peer.health.points < options_.bias_min_points) continue;
+      const double alignment = peer.plane.plane_in_map.normal.dot(normal);
+      if (std::abs(alignment) < cos_peer) continue;
+      witnesses.emplace_back(alignment * peer.health.median, peer.health.standard_error);
+    }
+    const int peers = static_cast<int>(witnesses.size()) - 1;
+    // The witnesses' median; of the two middle ones, the nearer to this plane's median.
+    std::sort(witnesses.begin(), witnesses.end());
+    const std::size_t upper = witnesses.size() / 2;
+    std::size_t middle = upper;
+    if (witnesses.size() % 2 == 0 && std::abs(witnesses[upper - 1].first - health.median) <
+                                         std::abs(witnesses[upper].first - health.median)) {
+      middle = upper - 1;
+    }
+    const double bias = health.median - witnesses[middle].first;
+    const double bias_sigma = std::hypot(health.standard_error, witnesses[middle].second);
+    // Down-weighting: from half the points needed to judge, the part of the bias its witnesses'
+    // uncertainty does not explain joins the plane sigma.
+    const double unexplained = std::max(0.0, std::abs(bias) - witnesses[middle].second);
     flat.bias2 = 2 * health.points >= options_.bias_min_points ? unexplained * unexplained : 0.0;
-    const double bias_sigma =
-        std::sqrt(health.standard_error * health.standard_error + trajectory_variance);
-    if (health.points >= options_.bias_min_points && std::abs(median) > options_.bias_min &&
-        std::abs(median) > options_.bias_significance * bias_sigma) {
-      health.disabled = true;
+    spdlog::debug(
+        "plane health: window {} plane {} points {} median {:+.3f} m (se {:.3f}) peers {} "
+        "bias {:+.3f}",
+        windows_, flat.plane.id, health.points, health.median, health.standard_error, peers, bias);
+    const bool judgeable = !options_.bias_peers || peers > 0;
+    if (judgeable && health.points >= options_.bias_min_points &&
+        std::abs(bias) > options_.bias_min &&
+        std::abs(bias) > options_.bias_significance * bias_sigma) {
+      flat.bias2 = 0;
       flat.distance_by_point.clear();
+      if (options_.reanchor_biased && !health.reanchored) {
+        // s = n.x + d: the points sit at s = bias off the peers' reference, so d - bias puts
+        // the plane where its peers say its points are.
+        flat.plane.plane_in_map.d -= bias;
+        health.reanchored = true;
+        health.shift = -bias;
+        health.median -= bias;  // its points' offset from the moved plane, for its peers
+        ++num_reanchored_;
+        spdlog::warn(
+            "{}: plane {} moved by {:+.3f} m along its normal for this run: its {} points sat "
+            "{:+.3f} m off it, {:+.3f} m off the trajectory and its {} peers (median signed "
+            "distances of their stereo estimates, standard error {:.3f} m); the map is wrong there",
+            map_name_, flat.plane.id, -bias, health.points, health.median, bias, peers, bias_sigma);
+        continue;
+      }
+      health.disabled = true;  // moved by its median, it still blocks (Associate, Record)
       ++num_disabled_;
       ++disabled_now;
       spdlog::warn(
-          "{}: plane {} disabled for this run: its {} points sit {:+.3f} m off it (median signed "
-          "distance of their stereo estimates, standard error {:.3f} m); the map is wrong there",
-          map_name_, flat.plane.id, health.points, median, health.standard_error);
+          "{}: plane {} disabled for this run: its {} points sit {:+.3f} m off it, {:+.3f} m off "
+          "the trajectory and its {} peers (median signed distances of their stereo estimates, "
+          "standard error {:.3f} m); the map is wrong there",
+          map_name_, flat.plane.id, health.points, health.median, bias, peers, bias_sigma);
     }
   }
   if (!warned_no_association_ && windows_ >= options_.warn_after_windows &&
@@ -383,12 +461,14 @@ void PlaneAssociator::SetTrajectoryCovariance(const Eigen::Matrix3d& position_co
 
 void PlaneAssociator::ResetHealth() {
   for (FlatPlane& flat : planes_) {
+    flat.plane.plane_in_map.d -= flat.health.shift;  // back where the map has it
     flat.health = PlaneHealth{};
     flat.bias2 = 0;
     flat.distance_by_point.clear();
     flat.touched = false;
   }
   num_disabled_ = 0;
+  num_reanchored_ = 0;
 }
 
 void PlaneAssociator::FillGateStats(CreaseCheckStats& stats) const {

@@ -84,6 +84,23 @@ struct PlaneAssociationOptions {
   double bias_min = 0.1;
   double bias_significance = 4.0;  // |median| > this many standard errors
   int bias_min_points = 40;        // distinct points before a plane can be disabled
+  // Three responses to a biased plane, off by default: each helped on some drives and cost on
+  // others (docs/experiments.md, "Peers, re-anchoring and blocking", small seeds 3/11/21).
+  // Planes.biasPeers: a plane is judged by witnesses, the trajectory (offset 0) and its peers
+  // (planes with points in the same window, normals within bias_peer_angle_deg): biased when it
+  // disagrees with a strict majority, by its offset from their median; a plane without peers is
+  // never moved or disabled (it is the only witness of its direction). Off: by the trajectory.
+  bool bias_peers = false;
+  double bias_peer_angle_deg = 20.0;
+  // Planes.reanchorBiased: a biased plane is first moved onto its points (by its bias, along
+  // its normal) and kept; disabled only when found biased again. A disabled plane leaves its
+  // direction to visual odometry; a moved one still holds the trajectory along its normal, at
+  // the error the trajectory had when the bias was measured.
+  bool reanchor_biased = false;
+  // Planes.disabledPlanesBlock: a disabled plane, moved by its points' median, still stands for
+  // their surface: a point on it is not given to a neighbouring plane whose gate it also passes
+  // (a sidewalk 8 cm above a disabled road takes the road's points near the kerb otherwise).
+  bool disabled_planes_block = false;
   // Planes considered (with at least bias_min_points) before "most planes disabled" or "no
   // plane ever passes the gate" is reported as a likely wrong map.
   int warn_after_windows = 10;
@@ -138,6 +155,8 @@ struct PlaneHealth {
   double median = 0;          // metres, signed
   double standard_error = 0;  // metres, of the median (robust, from the MAD)
   bool disabled = false;
+  bool reanchored = false;  // moved onto its points once (reanchor_biased)
+  double shift = 0;         // metres along the normal it was moved by
 };
 
 class PlaneAssociator {
@@ -204,7 +223,8 @@ class PlaneAssociator {
   // sqrt(rms^2 + map_sigma^2 + bias^2) of an enabled plane, metres.
   double PlaneSigma(int id) const;
   std::size_t size() const { return planes_.size(); }
-  int num_disabled() const { return num_disabled_; }  // currently disabled
+  int num_disabled() const { return num_disabled_; }      // currently disabled
+  int num_reanchored() const { return num_reanchored_; }  // currently moved onto their points
 
  private:
   struct FlatPlane {
@@ -231,6 +251,7 @@ class PlaneAssociator {
   std::vector<std::size_t> unbounded_;  // planes without an outline: tested everywhere
   Eigen::Matrix3d trajectory_covariance_ = Eigen::Matrix3d::Zero();
   int num_disabled_ = 0;
+  int num_reanchored_ = 0;
   int windows_ = 0;
   long long total_associations_ = 0;
   bool warned_no_association_ = false, warned_most_disabled_ = false;

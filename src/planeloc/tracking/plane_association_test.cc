@@ -281,6 +281,136 @@ TEST(PlaneAssociationTest, TrajectoryUncertaintyExplainsABiasButNotAGrossOne) {
   EXPECT_FALSE(gross.health(0).disabled);
 }
 
+// Walls facing z (normal +z) side by side at x in [10k, 10k + 9]: plane k at z = 10 + offsets[k].
+PlaneMap WallsAcross(const std::vector<double>& offsets) {
+  PlaneMap map;
+  for (std::size_t k = 0; k < offsets.size(); ++k) {
+    const double x0 = 10.0 * static_cast<double>(k), z = 10.0 + offsets[k];
+    map.planes.push_back(MakePlane(static_cast<int>(k), Plane(Eigen::Vector3d(0, 0, 1), -z),
+                                   {{x0, 0, z}, {x0 + 9, 0, z}, {x0 + 9, 5, z}, {x0, 5, z}}, 45));
+  }
+  return map;
+}
+
+PlaneAssociationOptions BiasTestOptions() {
+  PlaneAssociationOptions options;
+  options.map_sigma = 0.03;
+  options.bias_min = 0.06;
+  options.bias_significance = 4.0;
+  options.bias_min_points = 40;
+  return options;
+}
+
+// Records `rounds` windows of 15 points per plane k on the surface z = 10 + surface[k] (the true
+// wall plus the trajectory's error), x within [10k + x_from, 10k + x_to]; returns the planes
+// disabled per window.
+std::vector<int> RecordWalls(PlaneAssociator& planes, const std::vector<double>& surface,
+                             int rounds, double x_from = 0.5, double x_to = 8.5) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.03);
+  std::uniform_real_distribution<double> along(x_from, x_to), up(0.5, 4.5);
+  std::vector<int> disabled;
+  int id = 0;
+  for (int round = 0; round < rounds; ++round) {
+    for (int i = 0; i < 15; ++i) {
+      for (std::size_t k = 0; k < surface.size(); ++k) {
+        PointEstimate e;
+        e.point_in_map = Eigen::Vector3d(10.0 * static_cast<double>(k) + along(rng), up(rng),
+                                         10.0 + surface[k] + noise(rng));
+        e.covariance = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
+        planes.Record(id++, e);
+      }
+    }
+    disabled.push_back(planes.UpdateHealth(15 * static_cast<int>(surface.size())));
+  }
+  return disabled;
+}
+
+// Planes.biasPeers: a trajectory 0.15 m off along z moves the points of every wall facing z by
+// 0.15 m. Judged by the trajectory alone, all three walls are "biased"; judged with their peers,
+// none is, and a wall really 0.2 m off its peers is found.
+TEST(PlaneAssociationTest, PeersTellATrajectoryErrorFromAWrongPlane) {
+  const std::vector<double> walls = {0.0, 0.0, 0.0};
+  PlaneAssociator alone(WallsAcross(walls), BiasTestOptions());
+  RecordWalls(alone, {0.15, 0.15, 0.15}, 4);
+  EXPECT_EQ(alone.num_disabled(), 3);
+
+  PlaneAssociationOptions options = BiasTestOptions();
+  options.bias_peers = true;
+  PlaneAssociator peers(WallsAcross(walls), options);
+  RecordWalls(peers, {0.15, 0.15, 0.15}, 4);
+  EXPECT_EQ(peers.num_disabled(), 0);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(peers.health(k).median, 0.15, 0.02);
+
+  PlaneAssociator one_wrong(WallsAcross(walls), options);
+  RecordWalls(one_wrong, {0.1, 0.3, 0.1}, 4);  // within the statistics band (0.35 m)
+  EXPECT_FALSE(one_wrong.health(0).disabled);
+  EXPECT_TRUE(one_wrong.health(1).disabled);
+  EXPECT_FALSE(one_wrong.health(2).disabled);
+
+  // A wall without peers is the only witness of its direction: down-weighted, never disabled.
+  PlaneAssociator lone(WallsAcross({0.0}), options);
+  const double sigma0 = lone.PlaneSigma(0);
+  RecordWalls(lone, {0.3}, 4);
+  EXPECT_FALSE(lone.health(0).disabled);
+  EXPECT_GT(lone.PlaneSigma(0), std::hypot(sigma0, 0.25));
+}
+
+// Planes.reanchorBiased: a wall 0.2 m off its points is moved onto them, by its bias measured
+// against its peers, and kept; a map-frame correction (ResetHealth) puts it back.
+TEST(PlaneAssociationTest, ABiasedPlaneIsMovedOntoItsPoints) {
+  PlaneAssociationOptions options = BiasTestOptions();
+  options.reanchor_biased = true;
+  options.bias_peers = true;
+  const std::vector<double> walls = {0.0, 0.0, 0.0};
+  PlaneAssociator planes(WallsAcross(walls), options);
+  const double d0 = planes.plane(1).plane_in_map.d;
+  RecordWalls(planes, {0.05, 0.25, 0.05}, 5);
+  EXPECT_EQ(planes.num_disabled(), 0);
+  EXPECT_EQ(planes.num_reanchored(), 1);
+  EXPECT_TRUE(planes.health(1).reanchored);
+  // Moved by the 0.2 m it sits off its peers (the trajectory's 0.05 m stays with the others).
+  EXPECT_NEAR(planes.health(1).shift, -0.2, 0.02);
+  EXPECT_NEAR(planes.plane(1).plane_in_map.d, d0 - 0.2, 0.02);
+  PointEstimate on_surface;
+  on_surface.point_in_map = Eigen::Vector3d(14, 2, 10.25);
+  on_surface.covariance = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
+  const auto association = planes.Associate(on_surface);
+  ASSERT_TRUE(association.has_value());
+  EXPECT_EQ(association->plane_id, 1);
+  EXPECT_NEAR(association->signed_distance, 0.05, 0.02);
+  planes.ResetHealth();
+  EXPECT_DOUBLE_EQ(planes.plane(1).plane_in_map.d, d0);
+  EXPECT_EQ(planes.num_reanchored(), 0);
+}
+
+// Planes.disabledPlanesBlock: a road plane disabled because its points sit 0.2 m below it still
+// stands for their surface; a sidewalk plane 8 cm above that surface, whose outline overlaps it,
+// does not take its points.
+TEST(PlaneAssociationTest, ADisabledPlaneStillBlocksItsSurface) {
+  for (const bool block : {false, true}) {
+    PlaneMap map = WallsAcross({0.0});
+    // The "sidewalk": z = 10.28, over x in [0, 4] only (the road's points are recorded beyond).
+    map.planes.push_back(MakePlane(1, Plane(Eigen::Vector3d(0, 0, 1), -10.28),
+                                   {{0, 0, 10.28}, {4, 0, 10.28}, {4, 5, 10.28}, {0, 5, 10.28}},
+                                   20));
+    PlaneAssociationOptions options = BiasTestOptions();
+    options.disabled_planes_block = block;
+    PlaneAssociator planes(map, options);
+    RecordWalls(planes, {0.2}, 4, 5.0, 8.5);
+    ASSERT_TRUE(planes.health(0).disabled);
+    PointEstimate road_point;  // on the road's real surface, within the sidewalk's gate
+    road_point.point_in_map = Eigen::Vector3d(2, 2, 10.2);
+    road_point.covariance = Eigen::Matrix3d::Identity() * 0.02 * 0.02;
+    const auto association = planes.Associate(road_point);
+    EXPECT_EQ(association.has_value(), !block) << "block " << block;
+    PointEstimate sidewalk_point = road_point;
+    sidewalk_point.point_in_map.z() = 10.28;  // on the sidewalk, 8 cm off the road's surface
+    sidewalk_point.covariance = Eigen::Matrix3d::Identity() * 0.005 * 0.005;
+    ASSERT_TRUE(planes.Associate(sidewalk_point).has_value()) << "block " << block;
+  }
+}
+
 TEST(PlaneAssociationTest, OptionsCheck) {
   PlaneAssociationOptions options;
   options.max_distance = 0;

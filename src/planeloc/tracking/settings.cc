@@ -121,6 +121,10 @@ const std::vector<Key>& Keys() {
       D("Planes.biasMin", [](O& o) -> double& { return o.planes.bias_min; }),
       D("Planes.biasSignificance", [](O& o) -> double& { return o.planes.bias_significance; }),
       I("Planes.biasMinPoints", [](O& o) -> int& { return o.planes.bias_min_points; }),
+      B("Planes.biasPeers", [](O& o) -> bool& { return o.planes.bias_peers; }),
+      D("Planes.biasPeerAngleDeg", [](O& o) -> double& { return o.planes.bias_peer_angle_deg; }),
+      B("Planes.reanchorBiased", [](O& o) -> bool& { return o.planes.reanchor_biased; }),
+      B("Planes.disabledPlanesBlock", [](O& o) -> bool& { return o.planes.disabled_planes_block; }),
       // Map registration and lock from a coarse start (docs/map-registration.md).
       I("MapLock.attemptEveryKeyframes",
         [](O& o) -> int& { return o.map_lock.attempt_every_keyframes; }),
