@@ -13,6 +13,7 @@ Usage: scripts/bench_memory.py [--build build] [--trajectory ../shared/data/kitt
                                [--frames 3000] [--run-frames N] [--sim EXISTING_SIM_DIR]
                                [--work build/bench/memory_sim] [--out build/bench/memory.json]
                                [--off-settings keep|all] [--sequential]
+                               [--planes PLANES_JSON [--init-sigma "0 0 0"]]
 The path must be nearly planar: the simulator fits one ground plane to it (docs/sim.md), so a hilly
 drive (KITTI 02, 08, 09) puts the camera under the road; KITTI 00 stays within 1.4 m of its plane.
 """
@@ -77,20 +78,22 @@ def count_lines(path):
         return 0
 
 
-def run_all(planeloc, seq, poses, work, configs, interval, distance, sequential=False):
+def run_all(planeloc, seq, poses, work, configs, interval, distance, sequential=False,
+            mode=("--no-planes",)):
     """Runs the configurations side by side (on a shared machine each process gets its own share
     of the CPU; RSS is per process), or one after another with `sequential`, and samples each
     one's RSS with its frame count."""
     if sequential:
         runs = {}
         for config in configs:
-            runs.update(run_all(planeloc, seq, poses, work, (config,), interval, distance))
+            runs.update(run_all(planeloc, seq, poses, work, (config,), interval, distance,
+                                mode=mode))
         return runs
     runs = {}
     for name, settings in configs:
         traj = os.path.join(work, f"traj_{name}.txt")
         stats = os.path.join(work, f"stats_{name}.jsonl")
-        cmd = [planeloc, "run", "--sequence", seq, "--init-pose-from", poses, "--no-planes",
+        cmd = [planeloc, "run", "--sequence", seq, "--init-pose-from", poses, *mode,
                "--out", traj, "--stats", stats, "--deterministic"]
         if settings:
             cmd += ["--config", settings]
@@ -158,6 +161,9 @@ def main():
     ap.add_argument("--off-settings", choices=("all", "keep"), default="all",
                     help="the 'off' run: culling, fusion and forgetting off (all) or only "
                     "forgetting off, Mapping.keepKeyframes: 0 (keep)")
+    ap.add_argument("--planes", default=None,
+                    help="plane map (planes.json) to localize in instead of visual odometry")
+    ap.add_argument("--init-sigma", default=None, help="with --planes: run's --init-sigma")
     ap.add_argument("--sequential", action="store_true",
                     help="run 'on' then 'off' instead of side by side (one heavy job at a time)")
     args = ap.parse_args()
@@ -202,7 +208,10 @@ def main():
 
     wanted = [float(x) for x in args.checkpoints.split(",")]
     runs = run_all(planeloc, seq, poses, work, (("on", None), ("off", off)), args.interval,
-                   distance, args.sequential)
+                   distance, args.sequential,
+                   ("--planes", args.planes, *(("--init-sigma", args.init_sigma)
+                                               if args.init_sigma else ()))
+                   if args.planes else ("--no-planes",))
     for name, r in runs.items():
         r["checkpoints"] = checkpoints(r["samples"], wanted)
         for align in ("se3", "none"):
@@ -222,6 +231,7 @@ def main():
               "cpu": cpu, "cores": os.cpu_count(), "loadavg": os.getloadavg(),
               "trajectory": os.path.abspath(args.trajectory), "frames": args.frames,
               "run_frames": args.run_frames or args.frames, "off_settings": args.off_settings,
+              "planes": args.planes, "init_sigma": args.init_sigma,
               "sequential": args.sequential,
               "path_m": round(distance[-1], 1), "sim": os.path.abspath(sim), "preset": args.preset, "seed": args.seed,
               "runs": runs}
