@@ -12,6 +12,8 @@ samples and, per run, the peak RSS when each checkpoint distance was first reach
 Usage: scripts/bench_memory.py [--build build] [--trajectory ../shared/data/kitti-odometry-gt/poses/00.txt]
                                [--frames 3000] [--run-frames N] [--sim EXISTING_SIM_DIR]
                                [--work build/bench/memory_sim] [--out build/bench/memory.json]
+                               [--off-settings keep|all] [--sequential]
+                               [--planes PLANES_JSON [--init-sigma "0 0 0"]]
 The path must be nearly planar: the simulator fits one ground plane to it (docs/sim.md), so a hilly
 drive (KITTI 02, 08, 09) puts the camera under the road; KITTI 00 stays within 1.4 m of its plane.
 """
@@ -30,6 +32,12 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OFF_SETTINGS = """%YAML:1.0
 Mapping.cullKeyframes: 0
 Mapping.fusePoints: 0
+Mapping.keepKeyframes: 0
+"""
+
+# Only forgetting off (culling as by default, fusion off as by default): the linear-growth
+# reference for the defaults.
+KEEP_ALL_SETTINGS = """%YAML:1.0
 Mapping.keepKeyframes: 0
 """
 
@@ -70,14 +78,22 @@ def count_lines(path):
         return 0
 
 
-def run_all(planeloc, seq, poses, work, configs, interval, distance):
+def run_all(planeloc, seq, poses, work, configs, interval, distance, sequential=False,
+            mode=("--no-planes",)):
     """Runs the configurations side by side (on a shared machine each process gets its own share
-    of the CPU; RSS is per process) and samples each one's RSS with its frame count."""
+    of the CPU; RSS is per process), or one after another with `sequential`, and samples each
+    one's RSS with its frame count."""
+    if sequential:
+        runs = {}
+        for config in configs:
+            runs.update(run_all(planeloc, seq, poses, work, (config,), interval, distance,
+                                mode=mode))
+        return runs
     runs = {}
     for name, settings in configs:
         traj = os.path.join(work, f"traj_{name}.txt")
         stats = os.path.join(work, f"stats_{name}.jsonl")
-        cmd = [planeloc, "run", "--sequence", seq, "--init-pose-from", poses, "--no-planes",
+        cmd = [planeloc, "run", "--sequence", seq, "--init-pose-from", poses, *mode,
                "--out", traj, "--stats", stats, "--deterministic"]
         if settings:
             cmd += ["--config", settings]
@@ -142,6 +158,14 @@ def main():
     ap.add_argument("--interval", type=float, default=0.5, help="seconds between RSS samples")
     ap.add_argument("--checkpoints", default="250,500,1000,2000,3000,4000",
                     help="distances (m) reported in the table")
+    ap.add_argument("--off-settings", choices=("all", "keep"), default="all",
+                    help="the 'off' run: culling, fusion and forgetting off (all) or only "
+                    "forgetting off, Mapping.keepKeyframes: 0 (keep)")
+    ap.add_argument("--planes", default=None,
+                    help="plane map (planes.json) to localize in instead of visual odometry")
+    ap.add_argument("--init-sigma", default=None, help="with --planes: run's --init-sigma")
+    ap.add_argument("--sequential", action="store_true",
+                    help="run 'on' then 'off' instead of side by side (one heavy job at a time)")
     args = ap.parse_args()
     planeloc = args.planeloc or os.path.join(args.build, "bin", "planeloc")
     work = args.work or os.path.join(args.build, "bench", "memory_sim")
@@ -180,18 +204,22 @@ def main():
     distance = cumulative_distance(poses)
     off = os.path.join(work, "maintenance_off.yaml")
     with open(off, "w") as f:
-        f.write(OFF_SETTINGS)
+        f.write(OFF_SETTINGS if args.off_settings == "all" else KEEP_ALL_SETTINGS)
 
     wanted = [float(x) for x in args.checkpoints.split(",")]
     runs = run_all(planeloc, seq, poses, work, (("on", None), ("off", off)), args.interval,
-                   distance)
+                   distance, args.sequential,
+                   ("--planes", args.planes, *(("--init-sigma", args.init_sigma)
+                                               if args.init_sigma else ()))
+                   if args.planes else ("--no-planes",))
     for name, r in runs.items():
         r["checkpoints"] = checkpoints(r["samples"], wanted)
-        ate = os.path.join(work, f"ate_{name}.json")
-        subprocess.run([planeloc, "eval", "--gt", poses, "--est", r["trajectory"], "--align",
-                        "se3", "--json", ate], check=True, stdout=subprocess.DEVNULL)
-        with open(ate) as f:
-            r["eval_se3"] = json.load(f)
+        for align in ("se3", "none"):
+            ate = os.path.join(work, f"ate_{name}_{align}.json")
+            subprocess.run([planeloc, "eval", "--gt", poses, "--est", r["trajectory"], "--align",
+                            align, "--json", ate], check=True, stdout=subprocess.DEVNULL)
+            with open(ate) as f:
+                r[f"eval_{align}"] = json.load(f)
 
     def git(*a):
         return subprocess.run(["git", "-C", ROOT, *a], capture_output=True, text=True).stdout.strip()
@@ -202,7 +230,9 @@ def main():
               "commit": git("rev-parse", "--short", "HEAD"), "dirty": bool(git("status", "--porcelain")),
               "cpu": cpu, "cores": os.cpu_count(), "loadavg": os.getloadavg(),
               "trajectory": os.path.abspath(args.trajectory), "frames": args.frames,
-              "run_frames": args.run_frames or args.frames,
+              "run_frames": args.run_frames or args.frames, "off_settings": args.off_settings,
+              "planes": args.planes, "init_sigma": args.init_sigma,
+              "sequential": args.sequential,
               "path_m": round(distance[-1], 1), "sim": os.path.abspath(sim), "preset": args.preset, "seed": args.seed,
               "runs": runs}
     with open(out, "w") as f:
@@ -215,7 +245,9 @@ def main():
               f"{(row_off or {}).get('peak_rss_mb', float('nan')):>17.1f}")
     for name in runs:
         print(f"{name}: final peak {runs[name]['samples'][-1]['hwm_mb']} MB, "
-              f"{runs[name]['seconds']} s, summary {json.dumps(runs[name]['summary'].get('local_ba'))}")
+              f"{runs[name]['seconds']} s, ATE RMSE none {runs[name]['eval_none']['ape']['rmse']:.3f} m "
+              f"se3 {runs[name]['eval_se3']['ape']['rmse']:.3f} m, "
+              f"summary {json.dumps(runs[name]['summary'].get('local_ba'))}")
     print(f"bench_memory: wrote {out}")
 
 
