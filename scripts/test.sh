@@ -7,7 +7,10 @@
 #                targets) into build-asan/ (PLANELOC_ASAN_BUILD_DIR) and run the whole suite there;
 #                any sanitizer report fails its test (docs/reliability.md, "Sanitizers").
 #   --skip-slow  with --sanitize: leave out the tests labelled `slow` (the long synthetic-sequence
-#                suites, which the plain run covers), as CI does to stay in its time budget.
+#                suites) and `no_sanitize` (install.consumer, which cannot work under ASan, and
+#                the end-to-end CLI tests that re-run code the sanitized suites and fuzz targets
+#                cover; tests/CMakeLists.txt says why for each), as CI does to stay in its time
+#                budget. The plain run covers all of them.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
@@ -17,7 +20,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   sanitize=1
   shift
   if [ "${1:-}" = "--skip-slow" ]; then
-    exclude='^(format|slow)$'
+    exclude='^(format|slow|no_sanitize)$'
     shift
   fi
 elif [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
@@ -39,6 +42,7 @@ build_dir="$("$root/scripts/build_asan.sh")"
 source "$root/scripts/sanitizer_env.sh"
 cd "$build_dir"
 # Every test but format.clang_format, which runs clang-format over the sources and none of our
-# code (the plain run above checks it), and with --skip-slow the `slow` ones. --timeout only
+# code (the plain run above checks it), and with --skip-slow the `slow` and `no_sanitize` ones
+# (ctest -LE matches each label of a test: one excluded label leaves the test out). --timeout only
 # covers tests without their own TIMEOUT.
 ctest --output-on-failure -j "${PLANELOC_JOBS:-$(nproc)}" --timeout 1800 -LE "$exclude" "$@"

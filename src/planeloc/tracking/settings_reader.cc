@@ -6,6 +6,7 @@
 #include <cctype>
 #include <climits>
 #include <cmath>
+#include <exception>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -88,6 +89,10 @@ SettingsReader::SettingsReader(const std::filesystem::path& path) : path_(path) 
                   cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
   } catch (const cv::Exception& e) {
     throw SyntaxError(path, e, added_lines);
+  } catch (const std::exception&) {
+    // OpenCV's parser lets std::length_error escape on some malformed YAML (fuzz finding,
+    // docs/reliability.md): bad input, not a crash.
+    CheckInput(false, path.string(), 0, "not a valid settings file", kSyntaxFix);
   }
   CheckInput(storage_.isOpened(), path.string(), 0, "not a valid settings file", kSyntaxFix);
   const cv::FileNode root = storage_.root();
