@@ -245,6 +245,18 @@ std::optional<cv::Mat> SettingsReader::Matrix(const std::string& key, int rows, 
     AddError(key, expected);
     return std::nullopt;
   }
+  // The size the node claims, checked against its data before OpenCV allocates it: a file that
+  // claims 100000 x 100000 with four numbers would otherwise allocate 80 GB (fuzzing finding).
+  const cv::FileNode rows_node = entry->node["rows"], cols_node = entry->node["cols"];
+  const int claimed_rows = rows_node.isInt() ? static_cast<int>(rows_node) : -1;
+  const int claimed_cols = cols_node.isInt() ? static_cast<int>(cols_node) : -1;
+  constexpr int kMaxSide = 64;  // settings matrices are at most 4 x 4 (D: 1 x 14)
+  if (claimed_rows < 1 || claimed_cols < 1 || claimed_rows > kMaxSide || claimed_cols > kMaxSide ||
+      (rows >= 0 && claimed_rows != rows) || (cols >= 0 && claimed_cols != cols) ||
+      entry->node["data"].size() != static_cast<std::size_t>(claimed_rows * claimed_cols)) {
+    AddError(key, expected);
+    return std::nullopt;
+  }
   cv::Mat matrix;
   try {
     entry->node >> matrix;

@@ -357,6 +357,22 @@ TEST(SettingsTest, RejectsInvalidValuesNamingKeyAndRule) {
   EXPECT_THROW(LoadTrackerSettings(dir.path() / "missing.yaml", TrackerOptions{}), InputError);
 }
 
+// Fuzzing finding: a matrix node claiming a huge size made OpenCV allocate it (64 GiB) before
+// anything checked it; the claimed size is now checked against the data first. In Release the
+// old code also ended in this error (after an overcommitted allocation); under the sanitizers
+// (scripts/test.sh --sanitize) the allocation itself aborted the test.
+TEST(SettingsTest, MatrixClaimingAHugeSizeIsAnErrorNotAnAllocation) {
+  TempDir dir;
+  const std::string huge = std::string(kOrbSlam2) +
+                           "LEFT.height: 480\nLEFT.width: 752\nLEFT.K: !!opencv-matrix\n"
+                           "   rows: 100000\n   cols: 100000\n   dt: d\n"
+                           "   data:[458.0, 0.0, 367.0, 0.0]\n";
+  const std::string message =
+      Message([&] { LoadTrackerSettings(WriteFile(dir, huge), TrackerOptions{}); });
+  EXPECT_NE(message.find("LEFT.K"), std::string::npos) << message;
+  EXPECT_NE(message.find("a 3x3 !!opencv-matrix"), std::string::npos) << message;
+}
+
 TEST(SettingsTest, SyntaxErrorNamesFileAndLine) {
   TempDir dir;
   const auto path =
