@@ -243,6 +243,11 @@ std::optional<int> PlaneAssociator::Associate(const Eigen::Vector3d& point_in_ma
   return found;
 }
 
+double PlaneAssociator::SurfaceDistance(const FlatPlane& flat, const Eigen::Vector3d& x) const {
+  const double s = flat.plane.plane_in_map.SignedDistance(x);
+  return flat.health.disabled ? s - flat.health.median : s;
+}
+
 double PlaneAssociator::Variance(const FlatPlane& flat) const {
   return flat.plane.rms * flat.plane.rms + options_.map_sigma * options_.map_sigma + flat.bias2;
 }
@@ -260,7 +265,7 @@ std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& 
     // it also passes (a sidewalk 8 cm above a disabled road would otherwise take the road's
     // points near the kerb and lift the camera).
     if (flat.health.disabled && !options_.disabled_planes_block) return true;
-    const double s = plane.SignedDistance(x) - (flat.health.disabled ? flat.health.median : 0.0);
+    const double s = SurfaceDistance(flat, x);
     if (std::abs(s) > options_.max_distance) return true;
     const double map_variance = Variance(flat);
     const double variance = plane.normal.dot(estimate.covariance * plane.normal) + map_variance;
@@ -294,7 +299,7 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
     const Plane& plane = flat.plane.plane_in_map;
     // A disabled plane, moved by its median, blocks as in Associate (no statistics of its own).
     if (flat.health.disabled && !options_.disabled_planes_block) return true;
-    const double s = plane.SignedDistance(x) - (flat.health.disabled ? flat.health.median : 0.0);
+    const double s = SurfaceDistance(flat, x);
     if (flat.health.disabled) {
       const double variance = plane.normal.dot(estimate.covariance * plane.normal) + Variance(flat);
       if (std::abs(s) > options_.max_distance || s * s > options_.gate_chi2 * variance ||

@@ -242,6 +242,9 @@ class PlaneAssociator {
   template <typename F>
   void ForCandidates(const Eigen::Vector3d& point_in_map, F f) const;
   double Variance(const FlatPlane& flat) const;
+  // Signed distance of x from the plane, or, for a disabled plane, from the surface its points
+  // showed (the plane moved by their median).
+  double SurfaceDistance(const FlatPlane& flat, const Eigen::Vector3d& x) const;
 
   PlaneAssociationOptions options_;
   std::string map_name_;
