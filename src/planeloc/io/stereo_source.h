@@ -26,7 +26,9 @@ class StereoSource {
   virtual const StereoCamera& camera() const = 0;
   // Seconds (the source's clock), increasing.
   virtual double timestamp(std::size_t index) const = 0;
-  // Decodes frame `index`. Throws InputError naming the file or topic when it cannot.
+  // Decodes frame `index`. Throws InputError naming the file or topic when it cannot. RunSequence
+  // calls it on another thread than the other methods (it decodes the next frame while the
+  // current one is tracked), one call at a time: it must not share mutable state with them.
   virtual StereoPair LoadStereoPair(std::size_t index) const = 0;
   // False when the frame's images are known to be missing; then MissingFrame says which.
   virtual bool HasFrame(std::size_t index) const {

@@ -163,12 +163,13 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
   const double scale2 = map.scale().scale_factor * map.scale().scale_factor;
   std::set<int> plane_ids;
   int associations = 0;
-  std::vector<double> map_variances;  // per problem point, of its association
-  std::map<int, int> plane_points;    // associations per plane in this window
+  std::vector<double> map_variances;     // per problem point, of its association
+  std::vector<double> common_variances;  // per problem point, of its association's plane
+  std::map<int, int> plane_points;       // associations per plane in this window
   for (int id : point_ids) {
     const MapPoint& point = map.point(id);
     WindowPoint window_point{id, point.point_in_world, std::nullopt};
-    double map_variance = 0;
+    double map_variance = 0, common_variance = 0;
     if (planes) {
       // Decided from the point's stereo measurements, not from its BA position (hysteresis).
       if (const auto estimate = VisualPointEstimate(map, point, camera, options)) {
@@ -184,11 +185,13 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
           ++associations;
           ++plane_points[association->plane_id];
           map_variance = association->map_variance;
+          common_variance = association->common_variance;
         }
       }
     }
     problem.points.push_back(window_point);
     map_variances.push_back(map_variance);
+    common_variances.push_back(common_variance);
     for (const auto& [kf_id, keypoint] : point.observations) {
       if (!local_set.count(kf_id) && !fixed.count(kf_id)) continue;
       const Keyframe& kf = map.keyframe(kf_id);
@@ -235,6 +238,14 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
       const double map_variance = map_variances[i];
       const double point_variance = p.plane_sigma * p.plane_sigma - map_variance;
       p.plane_sigma = std::sqrt(point_variance + map_variance * n / common);
+    }
+    // Planes.biasCommonMode: N_k points share the plane's bias b, N_k b^2 each (the marginal of
+    // one shared offset); common_variance is 0 with the option off.
+    for (std::size_t i = 0; active && i < problem.points.size(); ++i) {
+      WindowPoint& p = problem.points[i];
+      if (!p.plane_id || common_variances[i] <= 0.0) continue;
+      const double n = plane_points[*p.plane_id];
+      p.plane_sigma = std::sqrt(p.plane_sigma * p.plane_sigma + n * common_variances[i]);
     }
   }
   for (const int plane_id : plane_ids) {

@@ -447,5 +447,59 @@ TEST(LocalMappingTest, CommonModePointsCapAPlanesInformation) {
   EXPECT_DOUBLE_EQ(information(100, &few_points), independent);
 }
 
+// Planes.biasCommonMode: a wall 8 cm off its 60 points. After the first window has measured
+// the bias, each point carries N b^2 more variance, so the second window draws at most 1 / b^2
+// from the plane in all (b = bias - allowance), where without the option it draws far more.
+TEST(LocalMappingTest, ABiasedPlaneTiesTheWindowOnceNotOncePerPoint) {
+  std::mt19937 rng(5);
+  const StereoCamera camera = TestCamera();
+  std::uniform_real_distribution<double> x(-3, 3), y(-0.9, 0.9);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 60; ++i) points.emplace_back(x(rng), y(rng), 4.0);
+  const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
+  SparseMap map;
+  TrackerOptions options;
+  const int kf = map.AddKeyframe(frame);
+  CreateStereoPoints(map, kf, camera, options);
+  map.UpdateConnections(kf);
+  PlaneMap plane_map;
+  MapPlane wall;
+  wall.id = 7;
+  wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -4.08);  // the points are at z = 4
+  wall.area = 400;
+  wall.rms = 0.01;
+  wall.polygon = {{-20, -20, 4.08}, {20, -20, 4.08}, {20, 20, 4.08}, {-20, 20, 4.08}};
+  plane_map.planes.push_back(wall);
+  options.planes.min_associations = 1;
+  options.planes.bias_min = 0.5;  // not disabled: the weighting is tested
+  options.planes.bias_common_allowance = 0.03;
+  auto information = [&](bool common_mode, int* associated, double* bias) {
+    options.planes.bias_common_mode = common_mode;
+    PlaneAssociator planes(plane_map, options.planes);
+    BuildLocalWindow(map, kf, options, camera, &planes);  // measures the bias
+    double sum = 0;
+    *associated = 0;
+    for (const WindowPoint& p : BuildLocalWindow(map, kf, options, camera, &planes).points) {
+      if (!p.plane_id) continue;
+      ++*associated;
+      sum += 1.0 / (p.plane_sigma * p.plane_sigma);
+    }
+    *bias = planes.health(7).common_bias;
+    return sum;
+  };
+  int independent_points = 0, common_points = 0;
+  double no_bias = 0, bias = 0;
+  const double independent = information(false, &independent_points, &no_bias);
+  const double common = information(true, &common_points, &bias);
+  ASSERT_GE(independent_points, 50);
+  EXPECT_EQ(common_points, independent_points);  // the gate is unchanged: same associations
+  EXPECT_EQ(no_bias, 0.0);
+  // The points' median sits 8 cm below the wall: b = 0.08 - 0.03, within their noise.
+  EXPECT_NEAR(bias, 0.05, 0.015);
+  EXPECT_LE(common, 1.0 / (bias * bias));
+  EXPECT_GT(common, 0.5 / (bias * bias));
+  EXPECT_GT(independent, 4.0 * common);
+}
+
 }  // namespace
 }  // namespace planeloc

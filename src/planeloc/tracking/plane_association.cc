@@ -48,6 +48,9 @@ void PlaneAssociationOptions::Check() const {
         bias_peer_angle_deg < 90)) {
     throw OptionsError("PlaneAssociationOptions.bias_peer_angle_deg must be in [0, 90) degrees");
   }
+  if (!(std::isfinite(bias_common_allowance) && bias_common_allowance >= 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.bias_common_allowance must be >= 0 (m)");
+  }
   if (!(pixel_sigma > 0.0)) {
     throw OptionsError("PlaneAssociationOptions.pixel_sigma must be > 0 (px)");
   }
@@ -275,7 +278,8 @@ std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& 
       ambiguous = true;
       return false;
     }
-    found = PlaneAssociation{flat.plane.id, s, std::sqrt(variance), map_variance};
+    found = PlaneAssociation{flat.plane.id, s, std::sqrt(variance), map_variance,
+                             flat.health.common_bias * flat.health.common_bias};
     return true;
   });
   if (ambiguous) return std::nullopt;
@@ -403,10 +407,16 @@ int PlaneAssociator::UpdateHealth(int associations) {
     // uncertainty does not explain joins the plane sigma.
     const double unexplained = std::max(0.0, std::abs(bias) - witnesses[middle].second);
     flat.bias2 = 2 * health.points >= options_.bias_min_points ? unexplained * unexplained : 0.0;
+    if (options_.bias_common_mode && 2 * health.points >= options_.bias_min_points) {
+      const double excess = std::max(0.0, unexplained - options_.bias_common_allowance);
+      health.common_bias =
+          options_.bias_common_hold ? std::max(health.common_bias, excess) : excess;
+    }
     spdlog::debug(
         "plane health: window {} plane {} points {} median {:+.3f} m (se {:.3f}) peers {} "
-        "bias {:+.3f}",
-        windows_, flat.plane.id, health.points, health.median, health.standard_error, peers, bias);
+        "bias {:+.3f} common {:.3f}",
+        windows_, flat.plane.id, health.points, health.median, health.standard_error, peers, bias,
+        health.common_bias);
     const bool judgeable = !options_.bias_peers || peers > 0;
     if (judgeable && health.points >= options_.bias_min_points &&
         std::abs(bias) > options_.bias_min &&

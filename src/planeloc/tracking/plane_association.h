@@ -101,6 +101,17 @@ struct PlaneAssociationOptions {
   // their surface: a point on it is not given to a neighbouring plane whose gate it also passes
   // (a sidewalk 8 cm above a disabled road takes the road's points near the kerb otherwise).
   bool disabled_planes_block = false;
+  // Planes.biasCommonMode: a plane's bias is one error shared by all its points, so N points of
+  // it in a window must not weigh it N times. With this on, the part of a plane's bias beyond
+  // bias_common_allowance (and its witnesses' uncertainty) is a common-mode variance b^2: each of
+  // the N_k points of plane k in a window gets N_k b^2 on top of its own variance, so that the
+  // plane ties the window to the map no tighter than b, however many points it has (the
+  // marginal of a shared offset with prior b). It is kept at its largest value for the run
+  // (hysteresis): a wrong plane that pulled the trajectory onto itself looks less biased
+  // afterwards, and must not be trusted again for that.
+  bool bias_common_mode = false;
+  double bias_common_allowance = 0.05;  // metres: a bias within the map's stated error is free
+  bool bias_common_hold = true;         // keep the largest b of the run (off: the latest window's)
   // Planes considered (with at least bias_min_points) before "most planes disabled" or "no
   // plane ever passes the gate" is reported as a likely wrong map.
   int warn_after_windows = 10;
@@ -147,6 +158,9 @@ struct PlaneAssociation {
   double signed_distance = 0;  // metres, of the estimate
   double sigma = 0;            // metres: the gate's sigma, also the BA residual's
   double map_variance = 0;     // m^2: the plane's part of sigma^2 (rms, map sigma, bias)
+  // m^2, bias_common_mode: the plane's common-mode variance b^2, to be multiplied by the number of
+  // the plane's points in the window and added to sigma^2 (not included in sigma).
+  double common_variance = 0;
 };
 
 // Per plane: statistics of its points' signed distances (the visual estimates).
@@ -157,6 +171,7 @@ struct PlaneHealth {
   bool disabled = false;
   bool reanchored = false;  // moved onto its points once (reanchor_biased)
   double shift = 0;         // metres along the normal it was moved by
+  double common_bias = 0;   // metres, bias_common_mode: its largest common-mode bias b so far
 };
 
 class PlaneAssociator {

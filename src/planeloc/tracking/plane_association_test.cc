@@ -411,6 +411,45 @@ TEST(PlaneAssociationTest, ADisabledPlaneStillBlocksItsSurface) {
   }
 }
 
+// Planes.biasCommonMode: a wall whose points sit 7 cm off it has the common-mode bias
+// b = 7 cm - allowance, handed to every association with it (the window multiplies it by its
+// point count). When the points come back onto the wall (the trajectory pulled onto it), b is
+// kept with biasCommonHold and follows them without; off, no association carries any.
+TEST(PlaneAssociationTest, ABiasIsCommonToAPlanesPointsAndHeldForTheRun) {
+  PointEstimate on_wall;
+  on_wall.point_in_map = Eigen::Vector3d(4, 2, 10.07);
+  on_wall.covariance = Eigen::Matrix3d::Identity() * 0.02 * 0.02;
+  for (const bool hold : {true, false}) {
+    PlaneAssociationOptions options = BiasTestOptions();
+    options.bias_min = 0.5;  // never disabled here: only the weighting is tested
+    options.bias_common_mode = true;
+    options.bias_common_allowance = 0.02;
+    options.bias_common_hold = hold;
+    PlaneAssociator planes(WallsAcross({0.0}), options);
+    RecordWalls(planes, {0.07}, 4);
+    // Median of 60 points with 3 cm noise: standard error about 5 mm.
+    EXPECT_NEAR(planes.health(0).common_bias, 0.05, 0.01) << "hold " << hold;
+    auto association = planes.Associate(on_wall);
+    ASSERT_TRUE(association.has_value());
+    EXPECT_DOUBLE_EQ(association->common_variance, std::pow(planes.health(0).common_bias, 2));
+    RecordWalls(planes, {0.0}, 4);  // the same point ids, now on the wall
+    EXPECT_NEAR(planes.health(0).median, 0.0, 0.01);
+    if (hold) {
+      EXPECT_NEAR(planes.health(0).common_bias, 0.05, 0.01);
+    } else {
+      EXPECT_LT(planes.health(0).common_bias, 0.01);
+    }
+  }
+  PlaneAssociationOptions off = BiasTestOptions();
+  off.bias_min = 0.5;
+  PlaneAssociator planes(WallsAcross({0.0}), off);
+  RecordWalls(planes, {0.07}, 4);
+  EXPECT_EQ(planes.health(0).common_bias, 0.0);
+  const auto association = planes.Associate(on_wall);
+  ASSERT_TRUE(association.has_value());
+  EXPECT_EQ(association->common_variance, 0.0);
+}
+
 TEST(PlaneAssociationTest, OptionsCheck) {
   PlaneAssociationOptions options;
   options.max_distance = 0;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <chrono>
@@ -303,15 +304,40 @@ RunSummary RunSequence(const RunOptions& run) {
   std::optional<ProgressBar> progress;
   if (run.show_progress) progress.emplace("run", total, "frames");
   const auto start = std::chrono::steady_clock::now();
-  for (std::size_t i = 0; i < total; ++i) {
+  // Frame i + 1 is decoded (and rectified) while frame i is tracked: on 2 cores the PNG decoding
+  // otherwise sits on the frame path. The result does not depend on it (the frames are the same
+  // and are tracked in order); an error is raised at its own frame, as without the prefetch.
+  struct LoadedFrame {
     std::optional<StereoPair> pair;
+    std::exception_ptr error;
+  };
+  auto load = [&](std::size_t i) {
+    LoadedFrame loaded;
+    if (!sequence.HasFrame(i)) return loaded;
+    try {
+      loaded.pair = sequence.LoadStereoPair(i);
+      if (effective.rectifier) loaded.pair = effective.rectifier->Rectify(*loaded.pair);
+    } catch (...) {
+      loaded.pair.reset();
+      loaded.error = std::current_exception();
+    }
+    return loaded;
+  };
+  LoadedFrame next;
+  tbb::task_group prefetch;  // after `next`: on an exception it waits for the task writing it
+  if (total > 0) next = load(0);
+  for (std::size_t i = 0; i < total; ++i) {
+    prefetch.wait();
+    LoadedFrame current = std::move(next);
+    next = LoadedFrame{};
+    if (i + 1 < total) prefetch.run([&next, &load, i] { next = load(i + 1); });
+    std::optional<StereoPair> pair = std::move(current.pair);
     if (!sequence.HasFrame(i)) {
       spdlog::warn("frame {}: image missing ({}), pose from the motion model", i,
                    sequence.MissingFrame(i));
-    } else {
+    } else if (current.error) {
       try {
-        pair = sequence.LoadStereoPair(i);
-        if (effective.rectifier) pair = effective.rectifier->Rectify(*pair);
+        std::rethrow_exception(current.error);
       } catch (const InputError& e) {
         // Frame 0 sets the initial pose and the scale: without it the whole trajectory is wrong.
         if (i == 0) throw;

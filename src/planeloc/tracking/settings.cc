@@ -125,6 +125,10 @@ const std::vector<Key>& Keys() {
       D("Planes.biasPeerAngleDeg", [](O& o) -> double& { return o.planes.bias_peer_angle_deg; }),
       B("Planes.reanchorBiased", [](O& o) -> bool& { return o.planes.reanchor_biased; }),
       B("Planes.disabledPlanesBlock", [](O& o) -> bool& { return o.planes.disabled_planes_block; }),
+      B("Planes.biasCommonMode", [](O& o) -> bool& { return o.planes.bias_common_mode; }),
+      D("Planes.biasCommonAllowance",
+        [](O& o) -> double& { return o.planes.bias_common_allowance; }),
+      B("Planes.biasCommonHold", [](O& o) -> bool& { return o.planes.bias_common_hold; }),
       // Map registration and lock from a coarse start (docs/map-registration.md).
       I("MapLock.attemptEveryKeyframes",
         [](O& o) -> int& { return o.map_lock.attempt_every_keyframes; }),
