@@ -13,6 +13,8 @@
 #   fixedwindow    LocalBA.windowKeyframesTurn = LocalBA.windowKeyframes (no growth at turns)
 #   oldgate        the fixed 15 cm band of the first release: no χ² gate (Planes.gateChi2 1e9),
 #                  so only Planes.maxDistance decides
+#   commonbias     Planes.biasCommonMode 1 with Planes.biasCommonAllowance 0.08 (a plane's bias
+#                  shared by its points, held for the run)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 preset=small
@@ -27,7 +29,7 @@ while [ $# -gt 0 ]; do
     --out) out="$2"; shift 2 ;;
     --kinds) kinds="$2"; shift 2 ;;
     --variants) variants="$2"; shift 2 ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     *) echo "bench_ablation.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -40,6 +42,8 @@ for variant in $variants; do
     creasegate) printf '%%YAML:1.0\nPlanes.creaseGate: 1\n' >"$cfg" ;;
     fixedwindow) printf '%%YAML:1.0\nLocalBA.windowKeyframesTurn: 10\n' >"$cfg" ;;
     oldgate) printf '%%YAML:1.0\nPlanes.gateChi2: 1e9\n' >"$cfg" ;;
+    commonbias)
+      printf '%%YAML:1.0\nPlanes.biasCommonMode: 1\nPlanes.biasCommonAllowance: 0.08\n' >"$cfg" ;;
     *) echo "bench_ablation.sh: unknown variant '$variant' (see --help)" >&2; exit 2 ;;
   esac
   echo "## $variant"
