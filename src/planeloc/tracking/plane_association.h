@@ -113,7 +113,7 @@ struct PlaneAssociationOptions {
   // Metres: a bias within this is free (0.05 = Planes.mapSigma and 0 cut the weight of clean
   // planes whose 2-5 cm "bias" was the trajectory's; 0.08 measured best, docs/experiments.md).
   double bias_common_allowance = 0.08;
-  bool bias_common_hold = true;         // keep the largest b of the run (off: the latest window's)
+  bool bias_common_hold = true;  // keep the largest b of the run (off: the latest window's)
   // Planes considered (with at least bias_min_points) before "most planes disabled" or "no
   // plane ever passes the gate" is reported as a likely wrong map.
   int warn_after_windows = 10;
