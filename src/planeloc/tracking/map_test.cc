@@ -394,30 +394,57 @@ TEST(LocalMappingTest, WindowTagsPlanePointsAndGrowsAtTurns) {
   EXPECT_TRUE(seen);
 }
 
+// One keyframe whose 60 stereo points lie on z = 4 in front of the camera, and a plane map of
+// one large wall (id 7) at z = wall_z with fitted rms `rms`.
+struct WallWindow {
+  WallWindow(double wall_z, double rms) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> x(-3, 3), y(-0.9, 0.9);
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < 60; ++i) points.emplace_back(x(rng), y(rng), 4.0);
+    const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
+    keyframe_id = map.AddKeyframe(frame);
+    CreateStereoPoints(map, keyframe_id, camera, TrackerOptions());
+    map.UpdateConnections(keyframe_id);
+    MapPlane wall;
+    wall.id = 7;
+    wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -wall_z);
+    wall.area = 400;
+    wall.rms = rms;
+    wall.polygon = {{-20, -20, wall_z}, {20, -20, wall_z}, {20, 20, wall_z}, {-20, 20, wall_z}};
+    plane_map.planes.push_back(wall);
+  }
+  StereoCamera camera = TestCamera();
+  SparseMap map;
+  int keyframe_id = 0;
+  PlaneMap plane_map;
+};
+
+// The window's information along the planes' normals: the sum of 1 / sigma^2 of its points'
+// point-to-plane residuals; `associated` counts them.
+double PlaneInformation(const WindowProblem& problem, int* associated) {
+  double sum = 0;
+  *associated = 0;
+  for (const WindowPoint& p : problem.points) {
+    if (!p.plane_id) continue;
+    ++*associated;
+    sum += 1.0 / (p.plane_sigma * p.plane_sigma);
+  }
+  return sum;
+}
+
 // A wall that 60 window points lie on: each point counts as independent of the others unless
 // Planes.commonModePoints says the map's error is shared. Then the window's total information
 // from the plane's map error is at most that many points' worth, however many points it holds.
 TEST(LocalMappingTest, CommonModePointsCapAPlanesInformation) {
-  std::mt19937 rng(5);
-  const StereoCamera camera = TestCamera();
   // At 4 m the points' own sigma along the normal (2.6 cm) is small next to the map's (5.8 cm).
-  std::uniform_real_distribution<double> x(-3, 3), y(-0.9, 0.9);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < 60; ++i) points.emplace_back(x(rng), y(rng), 4.0);
-  const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
-  SparseMap map;
+  const WallWindow w(4.0, 0.03);
+  const StereoCamera& camera = w.camera;
+  const SparseMap& map = w.map;
+  const int kf = w.keyframe_id;
+  const MapPlane& wall = w.plane_map.planes.front();
+  const PlaneMap& plane_map = w.plane_map;
   TrackerOptions options;
-  const int kf = map.AddKeyframe(frame);
-  CreateStereoPoints(map, kf, camera, options);
-  map.UpdateConnections(kf);
-  PlaneMap plane_map;
-  MapPlane wall;
-  wall.id = 7;
-  wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -4.0);
-  wall.area = 400;
-  wall.rms = 0.03;
-  wall.polygon = {{-20, -20, 4}, {20, -20, 4}, {20, 20, 4}, {-20, 20, 4}};
-  plane_map.planes.push_back(wall);
   options.planes.min_associations = 1;
   // The plane's map variance: its rms and the map sigma (no bias recorded yet).
   const double map_variance =
@@ -425,14 +452,7 @@ TEST(LocalMappingTest, CommonModePointsCapAPlanesInformation) {
   auto information = [&](int common_mode_points, int* associated) {
     options.planes.common_mode_points = common_mode_points;
     PlaneAssociator planes(plane_map, options.planes);
-    double sum = 0;
-    *associated = 0;
-    for (const WindowPoint& p : BuildLocalWindow(map, kf, options, camera, &planes).points) {
-      if (!p.plane_id) continue;
-      ++*associated;
-      sum += 1.0 / (p.plane_sigma * p.plane_sigma);
-    }
-    return sum;
+    return PlaneInformation(BuildLocalWindow(map, kf, options, camera, &planes), associated);
   };
   int independent_points = 0, capped_points = 0;
   const double independent = information(0, &independent_points);
@@ -451,25 +471,12 @@ TEST(LocalMappingTest, CommonModePointsCapAPlanesInformation) {
 // the bias, each point carries N b^2 more variance, so the second window draws at most 1 / b^2
 // from the plane in all (b = bias - allowance), where without the option it draws far more.
 TEST(LocalMappingTest, ABiasedPlaneTiesTheWindowOnceNotOncePerPoint) {
-  std::mt19937 rng(5);
-  const StereoCamera camera = TestCamera();
-  std::uniform_real_distribution<double> x(-3, 3), y(-0.9, 0.9);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < 60; ++i) points.emplace_back(x(rng), y(rng), 4.0);
-  const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
-  SparseMap map;
+  const WallWindow w(4.08, 0.01);  // the points are at z = 4
+  const StereoCamera& camera = w.camera;
+  const SparseMap& map = w.map;
+  const int kf = w.keyframe_id;
+  const PlaneMap& plane_map = w.plane_map;
   TrackerOptions options;
-  const int kf = map.AddKeyframe(frame);
-  CreateStereoPoints(map, kf, camera, options);
-  map.UpdateConnections(kf);
-  PlaneMap plane_map;
-  MapPlane wall;
-  wall.id = 7;
-  wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -4.08);  // the points are at z = 4
-  wall.area = 400;
-  wall.rms = 0.01;
-  wall.polygon = {{-20, -20, 4.08}, {20, -20, 4.08}, {20, 20, 4.08}, {-20, 20, 4.08}};
-  plane_map.planes.push_back(wall);
   options.planes.min_associations = 1;
   options.planes.bias_min = 0.5;  // not disabled: the weighting is tested
   options.planes.bias_common_allowance = 0.03;
@@ -477,13 +484,8 @@ TEST(LocalMappingTest, ABiasedPlaneTiesTheWindowOnceNotOncePerPoint) {
     options.planes.bias_common_mode = common_mode;
     PlaneAssociator planes(plane_map, options.planes);
     BuildLocalWindow(map, kf, options, camera, &planes);  // measures the bias
-    double sum = 0;
-    *associated = 0;
-    for (const WindowPoint& p : BuildLocalWindow(map, kf, options, camera, &planes).points) {
-      if (!p.plane_id) continue;
-      ++*associated;
-      sum += 1.0 / (p.plane_sigma * p.plane_sigma);
-    }
+    const double sum =
+        PlaneInformation(BuildLocalWindow(map, kf, options, camera, &planes), associated);
     *bias = planes.health(7).common_bias;
     return sum;
   };
