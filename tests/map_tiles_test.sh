@@ -2,7 +2,7 @@
 # Issue 15 end to end on the simulator's tiny preset (60 frames): `map tile` from a map and
 # `map build --tiles-out` from the scans give the same tiles; `map planes --tiles` gives the
 # untiled plane map (scripts/compare_plane_maps.py: the planes >= 20 m^2 matched within 0.5 deg
-# and 3 cm but one, none split) with at least the untiled GT recall; `mpirun -n 2 --oversubscribe`
+# and 3 cm, at most one split inside a tile) with at least the untiled GT recall; `mpirun -n 2 --oversubscribe`
 # writes a byte-identical planes.json (skipped when planeloc or the machine has no MPI); a broken tile
 # fails the run (exit 2) naming the tile.
 # Usage: tests/map_tiles_test.sh PLANELOC_BINARY SOURCE_DIR
@@ -47,15 +47,18 @@ run "$tmp/untiled.log" "$planeloc" map planes --map "$tmp/map.pcd" --out "$tmp/u
   --gt "$gt"
 run "$tmp/tiled.log" "$planeloc" map planes --tiles "$tmp/tiles" --out "$tmp/tiled.json" \
   --gt "$gt"
-# Measured (2026-12-02, this seed): 15 of the 16 untiled planes >= 20 m^2 matched within 0.5 deg /
-# 3 cm, none split. The one left is a 49 m^2 sidewalk strip that its tile's own region growing
-# cut in two (0.8 cm apart, the pieces 0.5-1 m apart across a gap that the whole map's growth
-# bridges); the merge joins only what a border cut (docs/map.md). kitti07-like: 140 of 141.
-check "tiled = untiled (planes >= 20 m^2 within 0.5 deg / 3 cm, at most 1 unmatched, none split)" \
+# Measured (2026-12-02, seventh session, this seed): all 17 untiled planes >= 20 m^2 matched within
+# 0.5 deg / 3 cm; one of them, a 37 m^2 sidewalk strip (x -9.6..-6.9, z -24.7..-7.2), comes out of
+# its tile's own extraction as two planes (24 + 11 m^2, 0.9 cm apart) cut at z = -19 m, 6 m inside
+# the tile (the tile's region growing stopped at a gap that the whole map's growth bridges); the
+# merge joins only what a border cut (docs/map.md). Before the seventh session the same strip
+# counted as unmatched (15 of 16). kitti07-like: 140 of 141, none split.
+check "tiled = untiled (planes >= 20 m^2 within 0.5 deg / 3 cm, all matched, at most 1 split)" \
   python3 "$src/scripts/compare_plane_maps.py" "$tmp/untiled.json" "$tmp/tiled.json" \
-  --allow-unmatched 1
+  --allow-split 1
 good() { python3 -c "import json; print(json.load(open('$1'))['stats']['gt_evaluation']['good'])"; }
-# Measured: untiled 22, tiled 24 of the 25 GT planes.
+# Measured: untiled 25, tiled 25 of the 25 GT planes (before the seventh session's robust fit: 22
+# and 24; the untiled road plane took three sidewalk GT planes).
 check "GT recall not lower tiled ($(good "$tmp/untiled.json") untiled vs $(good "$tmp/tiled.json"))" \
   test "$(good "$tmp/tiled.json")" -ge "$(good "$tmp/untiled.json")"
 

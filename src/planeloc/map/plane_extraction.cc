@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <optional>
@@ -155,18 +156,38 @@ std::vector<Patch> MergePatches(const std::vector<Eigen::Vector3d>& points,
   std::vector<int> parent(patches.size());
   std::iota(parent.begin(), parent.end(), 0);
   const double cos_merge = Cos(options.merge_angle_deg);
-  auto centroid = [&](const Patch& patch) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (const int i : patch.points) sum += points[i];
-    return Eigen::Vector3d(sum / static_cast<double>(patch.points.size()));
-  };
+  std::vector<PlanarPartMoments> moments(patches.size());
+  for (std::size_t p = 0; p < patches.size(); ++p) {
+    PlanarPartMoments& m = moments[p];
+    m.count = static_cast<double>(patches[p].points.size());
+    for (const int i : patches[p].points) m.mean += points[i];
+    m.mean /= m.count;
+    for (const int i : patches[p].points) {
+      const Eigen::Vector3d r = points[i] - m.mean;
+      m.scatter.noalias() += r * r.transpose();
+    }
+    m.normal = patches[p].plane.normal;
+    m.Finish();
+  }
+  // Members of each union-find root: a join must leave the group's joint plane holding every
+  // member, so a chain of pairwise-coplanar patches across a kerb (road, a patch straddling the
+  // kerb, sidewalk) does not become one group whose refit keeps the road and drops the sidewalk.
+  std::vector<std::vector<const PlanarPartMoments*>> members(patches.size());
+  for (std::size_t p = 0; p < patches.size(); ++p) members[p] = {&moments[p]};
   for (const auto& [a, b] : adjacent) {
+    const int ra = Find(parent, a), rb = Find(parent, b);
+    if (ra == rb) continue;
     const Plane& pa = patches[a].plane;
     const Plane& pb = patches[b].plane;
     if (std::abs(pa.normal.dot(pb.normal)) < cos_merge) continue;
-    if (std::abs(pa.SignedDistance(centroid(patches[b]))) > options.merge_distance) continue;
-    if (std::abs(pb.SignedDistance(centroid(patches[a]))) > options.merge_distance) continue;
-    parent[Find(parent, a)] = Find(parent, b);
+    if (std::abs(pa.SignedDistance(moments[b].mean)) > options.merge_distance) continue;
+    if (std::abs(pb.SignedDistance(moments[a].mean)) > options.merge_distance) continue;
+    std::vector<const PlanarPartMoments*> both = members[ra];
+    both.insert(both.end(), members[rb].begin(), members[rb].end());
+    if (!JointPlaneHoldsAll(both, options)) continue;
+    parent[ra] = rb;
+    members[rb] = std::move(both);
+    members[ra].clear();
   }
   std::vector<std::vector<int>> groups(patches.size());
   for (std::size_t p = 0; p < patches.size(); ++p) {
@@ -270,16 +291,21 @@ bool DetectUp(const std::vector<Eigen::Vector3d>& points, const Neighborhoods& h
     axis = largest->plane.normal;
   }
   const Plane& plane = dominant->plane;
-  std::size_t above = 0, below = 0;  // along +axis
+  // Neighbours well off the plane (3 inlier distances: 24 cm) on each side. Kerbs, walls, cars
+  // and trees stand on the ground; nothing lies under it. Closer to the plane, a real road that is
+  // not flat over a scan (crown, slope: rms 3 cm on KITTI-00) puts thousands of its own points on
+  // both sides: with the former 8 cm margin scan 000095 counted 7 758 above and 11 159 below and
+  // chose down; at 24 cm the four KITTI-00 scans count 1 357-14 893 above and none below.
+  const double margin = 3.0 * options.inlier_distance;
+  const double side = plane.normal.dot(axis) >= 0.0 ? 1.0 : -1.0;  // +1: the normal is +axis
+  std::size_t above = 0, below = 0;                                // along +axis
   const std::size_t stride = std::max<std::size_t>(1, dominant->points.size() / 20000);
   for (std::size_t s = 0; s < dominant->points.size(); s += stride) {
     const int i = dominant->points[s];
     for (auto k = hoods.begin(i); k < hoods.end(i); ++k) {
-      const Eigen::Vector3d& q = points[hoods.indices[k]];
-      const double height = (q - points[i]).dot(axis);
-      if (std::abs(plane.SignedDistance(q)) <= options.inlier_distance) continue;
-      above += height > 0.0;
-      below += height < 0.0;
+      const double height = side * plane.SignedDistance(points[hoods.indices[k]]);
+      above += height > margin;
+      below += height < -margin;
     }
   }
   up = above >= below ? axis : Eigen::Vector3d(-axis);
@@ -322,15 +348,17 @@ void PlaneExtractionOptions::Check() const {
 
 namespace {
 
-// The plane through three points that the most of `sample` lie within `band` of (deterministic:
-// a fixed-seed generator, so the same patch always gives the same plane).
+// The plane through three points of `sample` with the least sum of squared distances truncated at
+// `band` over the sample (MSAC; deterministic: a fixed-seed generator, so the same patch always
+// gives the same plane).
 std::optional<Plane> ConsensusPlane(const std::vector<Eigen::Vector3d>& points,
                                     const std::vector<int>& sample, double band) {
   constexpr int kTrials = 128;
   std::mt19937 rng(static_cast<std::uint32_t>(sample.size()));
   std::uniform_int_distribution<std::size_t> pick(0, sample.size() - 1);
   std::optional<Plane> best;
-  std::size_t best_count = 0;
+  double best_cost = std::numeric_limits<double>::infinity();
+  const double band2 = band * band;
   for (int trial = 0; trial < kTrials; ++trial) {
     const Eigen::Vector3d& a = points[sample[pick(rng)]];
     const Eigen::Vector3d& b = points[sample[pick(rng)]];
@@ -338,10 +366,14 @@ std::optional<Plane> ConsensusPlane(const std::vector<Eigen::Vector3d>& points,
     const Eigen::Vector3d normal = (b - a).cross(c - a);
     if (normal.norm() < 1e-6) continue;  // (nearly) collinear triple
     const Plane plane = Plane::FromPointAndNormal(a, normal.normalized());
-    std::size_t count = 0;
-    for (const int i : sample) count += std::abs(plane.SignedDistance(points[i])) <= band;
-    if (count > best_count) {
-      best_count = count;
+    // MSAC (truncated squares), not the inlier count: a road beside a kerb-high sidewalk as wide
+    // as half the road has more points within the band of a plane tilted by 1 deg across both
+    // than of the road itself, but their distances to it are larger.
+    double cost = 0.0;
+    for (const int i : sample)
+      cost += std::min(std::pow(plane.SignedDistance(points[i]), 2), band2);
+    if (cost < best_cost) {
+      best_cost = cost;
       best = plane;
     }
   }
@@ -349,6 +381,42 @@ std::optional<Plane> ConsensusPlane(const std::vector<Eigen::Vector3d>& points,
 }
 
 }  // namespace
+
+void PlanarPartMoments::Finish() {
+  own_residual = count > 0 ? std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(
+                                               scatter, Eigen::EigenvaluesOnly)
+                                               .eigenvalues()(0))
+                           : 0.0;
+}
+
+bool JointPlaneHoldsAll(const std::vector<const PlanarPartMoments*>& parts,
+                        const PlaneExtractionOptions& options) {
+  double count = 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const PlanarPartMoments* part : parts) {
+    count += part->count;
+    mean += part->count * part->mean;
+  }
+  if (count <= 0.0) return false;
+  mean /= count;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const PlanarPartMoments* part : parts) {  // parallel-axis theorem
+    const Eigen::Vector3d r = part->mean - mean;
+    scatter += part->scatter + part->count * r * r.transpose();
+  }
+  const Eigen::Vector3d normal =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(0).normalized();
+  const double cos_merge = Cos(options.merge_angle_deg);
+  const double allowed = 0.25 * options.inlier_distance;
+  for (const PlanarPartMoments* part : parts) {
+    if (part->count <= 0.0) continue;
+    if (std::abs(normal.dot(part->normal)) < cos_merge) return false;
+    const double offset = normal.dot(part->mean - mean);
+    const double joint = (normal.dot(part->scatter * normal) + part->count * offset * offset);
+    if (joint - part->own_residual > allowed * allowed * part->count) return false;
+  }
+  return true;
+}
 
 bool FitPlaneRobust(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices,
                     double inlier_distance, Plane& plane, std::vector<int>& inliers, double& rms) {
@@ -363,14 +431,19 @@ bool FitPlaneRobust(const std::vector<Eigen::Vector3d>& points, const std::vecto
   const std::optional<Plane> start = ConsensusPlane(points, sample, 0.5 * inlier_distance);
   if (!start) return false;
   plane = *start;
-  for (int round = 0; round < 3; ++round) {
-    inliers.clear();
-    for (const int i : indices) {
-      if (std::abs(plane.SignedDistance(points[i])) <= inlier_distance) inliers.push_back(i);
-    }
-    if (inliers.size() < 3) return false;
+  // The refits take the points within half the threshold, as the consensus did. Refitted on
+  // everything within the full threshold, two layers more than the threshold but less than twice
+  // it apart (road and sidewalk, 11 cm; threshold 8 cm) have a fixed point between them that
+  // keeps both: a tile whose sidewalk was a third of its road's points settled there, 3.7 cm
+  // above the road (issue 15, kitti07-like seed 2). A symmetric band around the surface does not
+  // bias the fit of a single noisy layer.
+  const double refit_band = 0.5 * inlier_distance;
+  for (int round = 0; round < 4; ++round) {
     PlaneSums sums;
-    for (const int i : inliers) sums.Add(points[i]);
+    for (const int i : indices) {
+      if (std::abs(plane.SignedDistance(points[i])) <= refit_band) sums.Add(points[i]);
+    }
+    if (sums.count < 3) return false;
     plane = sums.Fit();
   }
   inliers.clear();
@@ -378,9 +451,6 @@ bool FitPlaneRobust(const std::vector<Eigen::Vector3d>& points, const std::vecto
     if (std::abs(plane.SignedDistance(points[i])) <= inlier_distance) inliers.push_back(i);
   }
   if (inliers.size() < 3) return false;
-  PlaneSums sums;
-  for (const int i : inliers) sums.Add(points[i]);
-  plane = sums.Fit();
   double sum2 = 0.0;
   for (const int i : inliers) sum2 += std::pow(plane.SignedDistance(points[i]), 2);
   rms = std::sqrt(sum2 / static_cast<double>(inliers.size()));

@@ -4,9 +4,10 @@
 //  3. per orientation cluster, region growing over the tensor-voting neighbourhoods into
 //     spatially connected coplanar patches (normal within growth_angle_deg of the patch normal,
 //     point within growth_distance of the patch plane, patch plane refitted as it grows);
-//  4. robust total-least-squares fit per patch (iteratively trimmed at inlier_distance);
+//  4. robust total-least-squares fit per patch (FitPlaneRobust);
 //  5. adjacent patches on the same plane (angle < merge_angle_deg, offsets < merge_distance) are
-//     merged — this also joins a plane whose normals straddled two k-means clusters;
+//     merged when the group's joint plane holds each of them (JointPlaneHoldsAll) — this also
+//     joins a plane whose normals straddled two k-means clusters;
 //  6. planes with too few inliers, too small an area or extent, or too large an rms are rejected
 //     (cars and hedges are small, foliage is rough);
 //  7. outline: concave outline of the inliers in plane coordinates (plane_outline.h: occupancy
@@ -14,8 +15,9 @@
 // Everything is in the cloud's frame (the map frame). Deterministic.
 // Up (options.detect_up): after step 5, the largest plane (most inliers, rms <= max_rms) whose
 // normal is within 2 kind_angle_deg of a coordinate axis gives the up axis (the normal of the
-// largest plane when none is); its sign is the side where most off-plane neighbours of the plane's
-// points lie (kerbs, walls, cars and trees stand on the ground; nothing lies under it).
+// largest plane when none is); its sign is the side where most neighbours of the plane's points
+// lie more than 3 inlier_distance off it (kerbs, walls, cars and trees stand on the ground;
+// nothing lies under it).
 #pragma once
 
 #include <Eigen/Core>
@@ -75,13 +77,38 @@ PlaneExtractionResult ExtractPlanes(const std::vector<Eigen::Vector3d>& points,
                                     const TensorVotingResult& voting,
                                     const PlaneExtractionOptions& options);
 
-// Robust plane fit used per patch: a deterministic consensus (RANSAC) plane of up to 2000 of the
-// points (band inlier_distance / 2), then total least squares refitted three times on the points
-// within `inlier_distance`. Unlike trimming from a least-squares start it settles on the dominant
-// layer of two parallel surfaces a few centimetres apart (road and sidewalk).
+// Robust plane fit used per patch: a deterministic consensus (MSAC: squared distances truncated at
+// inlier_distance / 2) plane of up to 2000 of the points, then total least squares refitted on
+// the points within inlier_distance / 2 of it; the inliers are the points within
+// `inlier_distance`. Unlike trimming from a least-squares start, or a consensus by inlier count,
+// it settles on the dominant layer of two parallel surfaces a few centimetres apart (road and
+// sidewalk) rather than on a plane tilted across both (docs/map.md, step 4).
 // Returns false when fewer than 3 inliers remain. Exposed for tests.
 bool FitPlaneRobust(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices,
                     double inlier_distance, Plane& plane, std::vector<int>& inliers, double& rms);
+
+// The first and second moments of a set of points on a plane, with the plane's own normal: what
+// the joint fit of several such sets needs (the parallel-axis theorem), without the points.
+struct PlanarPartMoments {
+  double count = 0;                                   // points
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();     // their mean
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();  // sum of (p - mean)(p - mean)^T, m^2
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // the part's own plane
+  double own_residual = 0;  // m^2: sum of squared distances to its own best plane (scatter's
+                            // smallest eigenvalue); set by Finish()
+  // Sets own_residual from the scatter.
+  void Finish();
+};
+// True when the total-least-squares plane of all the parts' points holds each part as well as
+// its own plane does: the part's normal within merge_angle_deg of the joint one, and the part's
+// root-mean-square distance to the joint plane exceeding the one to its own best plane by at most
+// inlier_distance / 4 (sqrt of the difference of the mean squares). Pieces of one plane fit the
+// joint plane as well as their own, whatever their noise; parts that are pairwise within
+// merge_distance but are layers of a step (a road and a kerb-high sidewalk, 11 cm, which a joint
+// plane tilted by 1 deg across a 9 m street holds within inlier_distance) or a chain along a road
+// whose height changes do not. Used by the patch merge and by the merge across tile borders.
+bool JointPlaneHoldsAll(const std::vector<const PlanarPartMoments*>& parts,
+                        const PlaneExtractionOptions& options);
 
 // Convex hull (counter-clockwise) of 2-D points and its area; exposed for tests (and to compare
 // the concave outline against).

@@ -49,6 +49,81 @@ TEST(PlaneExtractionTest, RobustFitIgnoresOutliers) {
   EXPECT_NEAR(rms, 0.01, 0.003);
 }
 
+// Moments of the points of a horizontal strip x in [0, 30], y in [y0, y1] at height h (spacing
+// 0.1 m), its own plane horizontal: a lane of a street along x.
+PlanarPartMoments Strip(double y0, double y1, double h) {
+  std::vector<Eigen::Vector3d> points;
+  for (double x = 0.0; x <= 30.0 + 1e-9; x += 0.1) {
+    for (double y = y0; y <= y1 + 1e-9; y += 0.1) points.emplace_back(x, y, h);
+  }
+  PlanarPartMoments m;
+  m.count = static_cast<double>(points.size());
+  for (const auto& p : points) m.mean += p;
+  m.mean /= m.count;
+  for (const auto& p : points) m.scatter += (p - m.mean) * (p - m.mean).transpose();
+  m.Finish();
+  return m;
+}
+
+// Two road lanes (y in [0, 6]), a kerb-high sidewalk beside them (11 cm above, y in [6, 9], as in
+// the simulator's streets) and a strip straddling the kerb (6 cm): each neighbour is within
+// merge_distance (10 cm) of the other's plane, so the pairwise test chains them all. A joint plane
+// tilted by ~1 deg across the street would hold road and sidewalk within inlier_distance (8 cm),
+// so the test is on each part's fit, not on its mean.
+TEST(PlaneExtractionTest, JointPlaneRefusesAChainAcrossAKerb) {
+  const PlaneExtractionOptions options = ZUp();
+  ASSERT_NEAR(options.merge_distance, 0.10, 1e-12);
+  ASSERT_NEAR(options.inlier_distance, 0.08, 1e-12);
+  const PlanarPartMoments lane_a = Strip(0.0, 2.9, 0.0), lane_b = Strip(3.0, 5.9, 0.0);
+  const PlanarPartMoments straddle = Strip(5.9, 6.1, 0.06);
+  const PlanarPartMoments walk_a = Strip(6.1, 7.5, 0.11), walk_b = Strip(7.6, 9.0, 0.11);
+  EXPECT_TRUE(JointPlaneHoldsAll({&lane_a, &lane_b}, options));
+  EXPECT_TRUE(JointPlaneHoldsAll({&walk_a, &walk_b}, options));
+  EXPECT_FALSE(JointPlaneHoldsAll({&lane_a, &lane_b, &straddle}, options));
+  EXPECT_FALSE(JointPlaneHoldsAll({&lane_a, &lane_b, &walk_a, &walk_b}, options));
+  EXPECT_FALSE(JointPlaneHoldsAll({&lane_b, &walk_a}, options));
+  // A step of 1 cm is noise: one plane.
+  const PlanarPartMoments low_step = Strip(6.1, 9.0, 0.01);
+  EXPECT_TRUE(JointPlaneHoldsAll({&lane_a, &lane_b, &low_step}, options));
+  // A part tilted by more than merge_angle_deg (3 deg) is refused, whatever its fit.
+  PlanarPartMoments tilted = Strip(6.1, 9.0, 0.0);
+  tilted.normal = Eigen::Vector3d(0.0, std::sin(0.1), std::cos(0.1));  // 5.7 deg
+  EXPECT_FALSE(JointPlaneHoldsAll({&lane_a, &tilted}, options));
+}
+
+// A street with a kerb: the road (6 m wide) and a sidewalk 11 cm above it (3 m), joined by the
+// kerb's vertical face, 2 cm noise. Both must come out as planes at their own heights: the patch
+// merge used to chain road, kerb-straddling patches and sidewalk into one group whose refit kept
+// the road and dropped the sidewalk's points (issue 15, kitti07-like seed 2, 5 sidewalk GT planes).
+TEST(PlaneExtractionTest, RoadAndKerbHighSidewalkStayTwoPlanes) {
+  SceneBuilder builder(0.1, 0.005, 5);
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
+                        z = Eigen::Vector3d::UnitZ();
+  builder.Rectangle({0, 0, 0}, x, 30.0, y, 6.0, true);     // road
+  builder.Rectangle({0, 6, 0}, x, 30.0, z, 0.11, true);    // kerb face
+  builder.Rectangle({0, 6, 0.11}, x, 30.0, y, 3.0, true);  // sidewalk
+  const PlaneExtractionResult result = Extract(builder.scene(), ZUp());
+  int road = -1, sidewalk = -1;
+  for (std::size_t k = 0; k < result.plane_map.planes.size(); ++k) {
+    const MapPlane& plane = result.plane_map.planes[k];
+    if (plane.kind != "ground") continue;
+    const double height = -plane.plane_in_map.d;  // normal up: z = -d
+    if (std::abs(height) < 0.02 &&
+        (road < 0 || plane.inliers > result.plane_map.planes[road].inliers)) {
+      road = static_cast<int>(k);
+    }
+    if (std::abs(height - 0.11) < 0.02 &&
+        (sidewalk < 0 || plane.inliers > result.plane_map.planes[sidewalk].inliers)) {
+      sidewalk = static_cast<int>(k);
+    }
+  }
+  ASSERT_GE(road, 0);
+  ASSERT_GE(sidewalk, 0) << "no plane at the sidewalk's height";
+  // 30 x 3 m of sidewalk: most of its 90 m^2 in one plane.
+  EXPECT_GT(result.plane_map.planes[sidewalk].area, 60.0);
+  EXPECT_GT(result.plane_map.planes[road].area, 140.0);
+}
+
 // The acceptance criterion of issue 4 on a synthetic street corner with a car and a tree.
 TEST(PlaneExtractionTest, FindsEveryLargeGtPlaneAndRejectsClutter) {
   const SyntheticScene scene = SceneBuilder::StreetCorner(0.12, 0.02, 21);

@@ -66,38 +66,6 @@ struct CellHash {
   }
 };
 
-// The total-least-squares plane of the core inliers of `members` (from their moments) holds each
-// member: its normal within merge_angle_deg and its core centroid within inlier_distance / 2 (the
-// consensus band of the untiled robust fit, FitPlaneRobust). The untiled refit of a merged group
-// keeps one layer: a chain of pieces that are pairwise within merge_distance (a road whose height
-// changes along the drive) is not one plane. Two layers side by side are partly absorbed by a
-// tilt of the joint plane, so this bounds bumps and chains better than a single step.
-bool FitsAll(const std::vector<PieceRef>& pieces, const std::vector<int>& members,
-             const PlaneExtractionOptions& options) {
-  double count = 0.0;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const int k : members) {
-    count += static_cast<double>(pieces[k].piece->core_inliers);
-    mean += static_cast<double>(pieces[k].piece->core_inliers) * pieces[k].piece->core_mean;
-  }
-  mean /= count;
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const int k : members) {
-    const TilePiece& p = *pieces[k].piece;
-    const Eigen::Vector3d r = p.core_mean - mean;
-    scatter += p.core_scatter + static_cast<double>(p.core_inliers) * r * r.transpose();
-  }
-  const Eigen::Vector3d n =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(0).normalized();
-  const double cos_merge = std::cos(options.merge_angle_deg * std::numbers::pi / 180.0);
-  for (const int k : members) {
-    const TilePiece& p = *pieces[k].piece;
-    if (std::abs(n.dot(p.plane.plane_in_map.normal)) < cos_merge) return false;
-    if (std::abs(n.dot(p.core_mean - mean)) > 0.5 * options.inlier_distance) return false;
-  }
-  return true;
-}
-
 // Step 2: union-find over the pieces. Only a plane a border cut is re-joined: a piece of tile T
 // continues into the overlap band (its band samples), which is the core of a neighbour U, and
 // U's piece there holds core samples in the same outline cells (the same points, seen by both
@@ -125,16 +93,28 @@ std::vector<int> JoinAcrossBorders(const std::vector<PieceRef>& pieces,
       }
     }
   }
+  // The joint fit of a group uses the pieces' core inliers (JointPlaneHoldsAll): a chain of
+  // pieces that are pairwise within merge_distance (a road whose height changes along the drive)
+  // is not one plane.
+  std::vector<PlanarPartMoments> moments(pieces.size());
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const TilePiece& p = *pieces[k].piece;
+    moments[k].count = static_cast<double>(p.core_inliers);
+    moments[k].mean = p.core_mean;
+    moments[k].scatter = p.core_scatter;
+    moments[k].normal = p.plane.plane_in_map.normal;
+    moments[k].Finish();
+  }
   std::vector<int> parent(pieces.size());
   std::iota(parent.begin(), parent.end(), 0);
-  std::vector<std::vector<int>> members(pieces.size());  // per root
-  for (std::size_t k = 0; k < pieces.size(); ++k) members[k] = {static_cast<int>(k)};
+  std::vector<std::vector<const PlanarPartMoments*>> members(pieces.size());  // per root
+  for (std::size_t k = 0; k < pieces.size(); ++k) members[k] = {&moments[k]};
   for (const auto& [a, b] : shared) {
     const int ra = Find(parent, a), rb = Find(parent, b);
     if (ra == rb || !SamePlane(*pieces[a].piece, *pieces[b].piece, options)) continue;
-    std::vector<int> both = members[ra];
+    std::vector<const PlanarPartMoments*> both = members[ra];
     both.insert(both.end(), members[rb].begin(), members[rb].end());
-    if (!FitsAll(pieces, both, options)) continue;
+    if (!JointPlaneHoldsAll(both, options)) continue;
     parent[ra] = rb;
     members[rb] = std::move(both);
     members[ra].clear();

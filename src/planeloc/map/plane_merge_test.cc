@@ -163,12 +163,14 @@ TEST(MergeTilePlanesTest, KeepsApartCoplanarPiecesTheExtractionKeptApart) {
   EXPECT_EQ(merged.plane_map.stats["joined_groups"].get<int>(), 0);
 }
 
-// The joint fit holds each piece within the consensus band of the untiled robust fit
-// (inlier_distance / 2 = 0.04 m): a road cut by two borders whose middle section (tile 0) is 9 cm
-// higher than the two ends, each step within merge_distance (0.10 m), is not one plane that
-// fits none of them (the former tolerance, merge_distance, made it one: the middle section's
-// centroid is 0.06 m off that plane). A 2 cm bump is one plane (0.013 m off).
-TEST(MergeTilePlanesTest, JointFitHoldsEachPieceWithinTheConsensusBand) {
+// The joint plane holds each piece as well as the piece's own plane (JointPlaneHoldsAll): a road
+// cut by two borders whose middle section (tile 0) is 9 cm higher than the two ends, each step
+// within merge_distance (0.10 m), stays three planes. The joint plane of all three fits none of
+// them (the former tolerance, merge_distance, made it one); the joint plane of two neighbouring
+// sections, tilted through both centroids, puts each piece's ends 4.5 cm off it (rms 2.6 cm, over
+// the 2 cm allowed; the test of the core centroids alone, until the seventh session, joined those
+// two). A 2 cm bump is one plane.
+TEST(MergeTilePlanesTest, JointPlaneHoldsEachPieceAsItsOwnDoes) {
   for (const double bump : {0.02, 0.09}) {
     const std::vector<TilePlanes> tiles = {
         Tile({-1, 0}, {GroundPiece(0, -18.0, 3.0, 0.0, -20.0, 0.0)}),
@@ -179,7 +181,8 @@ TEST(MergeTilePlanesTest, JointFitHoldsEachPieceWithinTheConsensusBand) {
       ASSERT_EQ(merged.plane_map.planes.size(), 1u);
       EXPECT_EQ(merged.plane_map.planes[0].inliers, 560 * 60);  // the cores: 56 m x 6 m
     } else {
-      EXPECT_EQ(merged.plane_map.planes.size(), 2u);  // two sections joined, the third apart
+      EXPECT_EQ(merged.plane_map.planes.size(), 3u);
+      EXPECT_EQ(merged.plane_map.stats["joined_groups"].get<int>(), 0);
     }
   }
 }
