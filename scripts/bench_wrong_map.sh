@@ -10,7 +10,12 @@
 #
 # Usage: scripts/bench_wrong_map.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
 #        [--config FILE] [--tag NAME] [--init-sigma "S_XY S_Z S_YAW_DEG"] [--kinds "clean move0.2"]
+#        [--draws K]
 # --kinds runs a subset of the columns (ablations: scripts/bench_ablation.sh).
+# --draws K: each plane-map cell is the mean over the map as it is and K copies with every plane
+# offset by N(0, 0.5 mm) (corrupt_planes.py --jitter, seeds 1..K): the tracker is chaotic in its
+# map, one run scatters by about +-10 % (docs/experiments.md); the runs are listed in
+# DIR/<preset>-<seed>/<tag>/draws.txt.
 # The plane-mode runs start from the exact GT pose with --init-sigma "0 0 0" by default, so the
 # numbers measure the association alone (a coarse start adds the map lock: pass the prior).
 # Data (simulator output, maps) is reused from DIR/<preset>-<seed>/ when present; runs go to
@@ -25,6 +30,7 @@ config=()
 tag=run
 init_sigma="0 0 0"
 kinds="vo clean move0.1 move0.2 move0.3 rot2 noisy refined"
+draws=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --preset) preset="$2"; shift 2 ;;
@@ -34,7 +40,8 @@ while [ $# -gt 0 ]; do
     --tag) tag="$2"; shift 2 ;;
     --init-sigma) init_sigma="$2"; shift 2 ;;
     --kinds) kinds="$2"; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    --draws) draws="$2"; shift 2 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "bench_wrong_map.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -88,17 +95,36 @@ for seed in $seeds; do
   poses="$d/sim/poses/00.txt"
   r="$d/$tag"
   mkdir -p "$r"
+  [ "$draws" -gt 0 ] && : >"$r/draws.txt"
   row="$seed"
   for kind in $kinds; do
     case "$kind" in
-      vo) maparg=(--no-planes) ;;
-      clean) maparg=(--planes "$d/planes.json" --init-sigma "$init_sigma") ;;
-      *) maparg=(--planes "$d/planes_$kind.json" --init-sigma "$init_sigma") ;;
+      vo) map="" ;;
+      clean) map="$d/planes.json" ;;
+      *) map="$d/planes_$kind.json" ;;
     esac
-    "$planeloc" run --sequence "$seq" --init-pose-from "$poses" "${maparg[@]}" "${config[@]}" \
-      --deterministic --out "$r/traj_$kind.txt" --stats "$r/stats_$kind.jsonl" \
-      >"$r/run_$kind.log" 2>&1
-    row="$row $(ate "$poses" "$r/traj_$kind.txt")"
+    values=()
+    for draw in $(seq 0 "$draws"); do
+      [ -n "$map" ] || [ "$draw" = 0 ] || break  # VO does not depend on a map
+      name="$kind"
+      if [ -z "$map" ]; then
+        maparg=(--no-planes)
+      elif [ "$draw" = 0 ]; then
+        maparg=(--planes "$map" --init-sigma "$init_sigma")
+      else
+        name="$kind.draw$draw"
+        python3 "$root/scripts/corrupt_planes.py" "$map" "$r/planes_$name.json" --seed "$draw" \
+          --jitter 0.0005
+        maparg=(--planes "$r/planes_$name.json" --init-sigma "$init_sigma")
+      fi
+      "$planeloc" run --sequence "$seq" --init-pose-from "$poses" "${maparg[@]}" "${config[@]}" \
+        --deterministic --out "$r/traj_$name.txt" --stats "$r/stats_$name.jsonl" \
+        >"$r/run_$name.log" 2>&1
+      values+=("$(ate "$poses" "$r/traj_$name.txt")")
+    done
+    [ "$draws" -gt 0 ] && echo "$kind ${values[*]}" >>"$r/draws.txt"
+    mean='import sys; v = [float(x) for x in sys.argv[1:]]; print("%.4f" % (sum(v) / len(v)))'
+    row="$row $(python3 -c "$mean" "${values[@]}")"
   done
   echo "$row"
 done

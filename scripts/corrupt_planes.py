@@ -4,11 +4,16 @@ its normal or rotated about its centroid (issue 10's "a map that can be wrong" b
 
   corrupt_planes.py IN.json OUT.json --seed 1 --fraction 0.2 --move 0.2
   corrupt_planes.py IN.json OUT.json --seed 1 --fraction 0.2 --rotate-deg 2
+  corrupt_planes.py IN.json OUT.json --seed 1 --jitter 0.0005
 
 Only planes with area >= --min-area (the tracker's Planes.minPlaneArea, 8 m^2) are candidates,
 so the fraction is of the planes the tracker uses. Each chosen plane moves by +-move metres
 (random sign) along its normal, polygon and centroid with it; or turns by rotate-deg about a
 random in-plane axis through its centroid. The chosen ids go to stderr. python3 + json only.
+--jitter S moves every plane by a Gaussian offset of sigma S metres along its normal instead: with
+S = 0.5 mm the map is the same to any measurement, but the tracker's run is not (it is chaotic in
+its map), so runs over a few such draws give the scatter of a single run (bench_wrong_map.sh
+--draws).
 """
 import argparse
 import json
@@ -47,12 +52,28 @@ def main():
     parser.add_argument("--move", type=float, default=0.0, help="metres along the normal")
     parser.add_argument("--rotate-deg", type=float, default=0.0)
     parser.add_argument("--min-area", type=float, default=8.0)
+    parser.add_argument("--jitter", type=float, default=0.0,
+                        help="metres: every plane moved by N(0, jitter) along its normal")
     args = parser.parse_args()
-    if (args.move == 0.0) == (args.rotate_deg == 0.0):
-        parser.error("give exactly one of --move and --rotate-deg")
+    if sum(x != 0.0 for x in (args.move, args.rotate_deg, args.jitter)) != 1:
+        parser.error("give exactly one of --move, --rotate-deg and --jitter")
     with open(args.input) as f:
         document = json.load(f)
     planes = document["planes"]
+    if args.jitter:
+        rng = random.Random(args.seed)
+        for p in planes:
+            shift = rng.gauss(0.0, args.jitter)
+            n = normalized(p["normal"])
+            p["d"] = p["d"] - shift
+            move = [shift * x for x in n]
+            if "centroid" in p:
+                p["centroid"] = [p["centroid"][k] + move[k] for k in range(3)]
+            p["polygon"] = [[q[k] + move[k] for k in range(3)] for q in p.get("polygon", [])]
+        document.setdefault("stats", {})["jittered"] = {"seed": args.seed, "sigma": args.jitter}
+        with open(args.output, "w") as f:
+            json.dump(document, f, indent=1)
+        return 0
     candidates = [i for i, p in enumerate(planes) if p.get("area", 0.0) >= args.min_area]
     rng = random.Random(args.seed)
     count = max(1, round(args.fraction * len(candidates)))
