@@ -14,6 +14,7 @@
 #include "command_registry.h"
 #include "flags.h"
 #include "planeloc/tracking/run_sequence.h"
+#include "planeloc/util/allocator.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/safe_file.h"
 #ifdef PLANELOC_HAVE_ROS
@@ -107,6 +108,7 @@ int Run(const RunArgs& args) {
                     {"--config", args.config},
                     {"--bag", args.bag}});
   if (!args.report_dir.empty()) PrepareReportDir(args.report_dir);
+  KeepFreedMemoryForReuse();
   RunOptions options;
   options.sequence = args.sequence;
   if (!args.bag.empty()) options.source = OpenBag(args);

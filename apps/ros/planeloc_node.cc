@@ -31,6 +31,7 @@
 
 #include "node_localizer.h"
 #include "planeloc/ros/ros_conversions.h"
+#include "planeloc/util/allocator.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc::node {
@@ -208,6 +209,7 @@ class PlanelocNode {
 }  // namespace planeloc::node
 
 int main(int argc, char** argv) {
+  planeloc::KeepFreedMemoryForReuse();
   ::ros::init(argc, argv, "planeloc_node");
   ::ros::NodeHandle nh, pnh("~");
   try {
