@@ -163,6 +163,23 @@ TEST(MergeTilePlanesTest, KeepsApartCoplanarPiecesTheExtractionKeptApart) {
   EXPECT_EQ(merged.plane_map.stats["joined_groups"].get<int>(), 0);
 }
 
+// A piece that reaches into the other's core one way only: tile 0's extraction grew its piece
+// over a gap near the border into the band (x in [-3, 0)), where tile -1 has a piece of its own
+// that ends 0.3 m before the border (its whole plane, nothing in the band). Tile -1, which saw
+// both sides of the gap in full, kept them apart, as the untiled map does: the pieces stay two
+// planes (kitti07-like seed 1, a 37 m^2 sidewalk). The same pieces with tile -1's reaching 0.5 m
+// across the border (a plane the border cuts, seen by both) are joined.
+TEST(MergeTilePlanesTest, JoinsOnlyPiecesThatReachIntoEachOthersCore) {
+  for (const double end : {-0.3, 0.5}) {
+    const std::vector<TilePlanes> tiles = {
+        Tile({-1, 0}, {GroundPiece(0, -10.0, end, 0.0, -20.0, 0.0)}),
+        Tile({0, 0}, {GroundPiece(0, -3.0, 10.0, 0.0, 0.0, 20.0)})};
+    const MergedPlanes merged = MergeTilePlanes(tiles, Options());
+    EXPECT_EQ(merged.plane_map.planes.size(), end < 0.0 ? 2u : 1u) << "end " << end;
+    EXPECT_EQ(merged.plane_map.stats["joined_groups"].get<int>(), end < 0.0 ? 0 : 1);
+  }
+}
+
 // The joint plane holds each piece as well as the piece's own plane (JointPlaneHoldsAll): a road
 // cut by two borders whose middle section (tile 0) is 9 cm higher than the two ends, each step
 // within merge_distance (0.10 m), stays three planes. The joint plane of all three fits none of
