@@ -304,21 +304,29 @@ RunSummary RunSequence(const RunOptions& run) {
   std::optional<ProgressBar> progress;
   if (run.show_progress) progress.emplace("run", total, "frames");
   const auto start = std::chrono::steady_clock::now();
-  // Frame i + 1 is decoded (and rectified) while frame i is tracked: on 2 cores the PNG decoding
-  // otherwise sits on the frame path. The result does not depend on it (the frames are the same
-  // and are tracked in order); an error is raised at its own frame, as without the prefetch.
+  // Frame i + 1 is decoded, rectified and its features extracted and matched while frame i is
+  // tracked: none of it depends on the tracker's state, and on 2 cores it otherwise sits on the
+  // frame path while tracking, the local map and the keyframe's crease check run on one core.
+  // The result does not depend on it (the features are the same and are tracked in order); an
+  // error is raised at its own frame, as without the prefetch.
   struct LoadedFrame {
-    std::optional<StereoPair> pair;
+    std::optional<StereoFeatures> features;
+    double ms_extract = 0;
     std::exception_ptr error;
   };
   auto load = [&](std::size_t i) {
     LoadedFrame loaded;
     if (!sequence.HasFrame(i)) return loaded;
     try {
-      loaded.pair = sequence.LoadStereoPair(i);
-      if (effective.rectifier) loaded.pair = effective.rectifier->Rectify(*loaded.pair);
+      StereoPair pair = sequence.LoadStereoPair(i);
+      if (effective.rectifier) pair = effective.rectifier->Rectify(pair);
+      const auto extract_start = std::chrono::steady_clock::now();
+      loaded.features = tracker.ExtractFeatures(pair.left, pair.right);
+      loaded.ms_extract = std::chrono::duration<double, std::milli>(
+                              std::chrono::steady_clock::now() - extract_start)
+                              .count();
     } catch (...) {
-      loaded.pair.reset();
+      loaded.features.reset();
       loaded.error = std::current_exception();
     }
     return loaded;
@@ -331,7 +339,7 @@ RunSummary RunSequence(const RunOptions& run) {
     LoadedFrame current = std::move(next);
     next = LoadedFrame{};
     if (i + 1 < total) prefetch.run([&next, &load, i] { next = load(i + 1); });
-    std::optional<StereoPair> pair = std::move(current.pair);
+    std::optional<StereoFeatures> features = std::move(current.features);
     if (!sequence.HasFrame(i)) {
       spdlog::warn("frame {}: image missing ({}), pose from the motion model", i,
                    sequence.MissingFrame(i));
@@ -344,8 +352,10 @@ RunSummary RunSequence(const RunOptions& run) {
         spdlog::warn("frame {}: {}; frame skipped, pose from the motion model", i, e.what());
       }
     }
-    const TrackResult result = pair ? tracker.Track(pair->left, pair->right, sequence.timestamp(i))
-                                    : tracker.SkipFrame(sequence.timestamp(i));
+    const TrackResult result =
+        features
+            ? tracker.TrackFeatures(std::move(*features), sequence.timestamp(i), current.ms_extract)
+            : tracker.SkipFrame(sequence.timestamp(i));
     writer.Write(sequence.timestamp(i), result.world_from_cam);
     if (stats_out) stats_out->Write(result.stats.ToJson() + '\n');
     summary.stats.push_back(result.stats);

@@ -110,9 +110,12 @@ Tracker::~Tracker() = default;
 
 TrackResult Tracker::Track(const cv::Mat& left, const cv::Mat& right, double timestamp) {
   const auto start = Clock::now();
-  StereoFeatures features =
-      ExtractStereoFeatures(left, right, camera_, extractor_, options_.stereo);
+  StereoFeatures features = ExtractFeatures(left, right);
   return TrackFeatures(std::move(features), timestamp, MillisecondsSince(start));
+}
+
+StereoFeatures Tracker::ExtractFeatures(const cv::Mat& left, const cv::Mat& right) const {
+  return ExtractStereoFeatures(left, right, camera_, extractor_, options_.stereo);
 }
 
 Rigid3d Tracker::PredictPose() const {

@@ -122,6 +122,9 @@ class Tracker {
 
   // Extracts features from a rectified grey pair and tracks them.
   TrackResult Track(const cv::Mat& left, const cv::Mat& right, double timestamp);
+  // The features Track extracts from a rectified grey pair. Const and thread-safe: a caller may
+  // extract the next frame while the current one is tracked (run_sequence.cc).
+  StereoFeatures ExtractFeatures(const cv::Mat& left, const cv::Mat& right) const;
   // Tracks already extracted features (`ms_extract` is reported in the stats).
   TrackResult TrackFeatures(StereoFeatures features, double timestamp, double ms_extract = 0);
   // A frame without images: the motion model's pose, no map change.
