@@ -104,6 +104,7 @@ const std::vector<Key>& Keys() {
         [](O& o) -> double& { return o.ba.plane_outlier_distance; }),
       I("LocalBA.windowKeyframesTurn", [](O& o) -> int& { return o.ba_window_keyframes_turn; }),
       D("LocalBA.turnAngleDeg", [](O& o) -> double& { return o.ba_turn_angle_deg; }),
+      I("LocalBA.maxLagFrames", [](O& o) -> int& { return o.ba_max_lag_frames; }),
       D("Planes.maxDistance", [](O& o) -> double& { return o.planes.max_distance; }),
       D("Planes.polygonMargin", [](O& o) -> double& { return o.planes.polygon_margin; }),
       D("Planes.minPlaneArea", [](O& o) -> double& { return o.planes.min_plane_area; }),
@@ -287,6 +288,7 @@ void TrackerOptions::Check() const {
   map_lock.Check();
   Require(close_depth_baselines > 0, "close_depth_baselines must be > 0");
   Require(fps > 0, "fps must be > 0");
+  Require(ba_max_lag_frames >= 0, "ba_max_lag_frames (LocalBA.maxLagFrames) must be >= 0");
   Require(motion_search_radius > 0, "motion_search_radius must be > 0");
   Require(min_motion_matches >= 3, "min_motion_matches must be >= 3");
   Require(min_tracked_inliers >= 3, "min_tracked_inliers must be >= 3");

@@ -56,6 +56,7 @@ std::string FrameStats::ToJson() const {
       frame, TrackingStateName(state), skipped ? "true" : "false", features, stereo_matches,
       tracked_points, inliers, keyframe ? "true" : "false", ms_extract, ms_track, ms_local_map,
       ms_ba);
+  if (keyframe_id) json += fmt::format(",\"keyframe_id\":{}", *keyframe_id);
   if (ba_median_reprojection_px) {
     json += fmt::format(",\"ba_median_reprojection_px\":{:.4f}", *ba_median_reprojection_px);
   }
@@ -159,7 +160,16 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   Frame frame(next_frame_id_++, timestamp, std::move(features), camera_);
 
   const auto track_start = Clock::now();
-  ApplyBaResults(stats, /*wait=*/false);
+  const bool ba_overdue = ba_submitted_frame_ && options_.ba_max_lag_frames > 0 &&
+                          stats.frame - *ba_submitted_frame_ >= options_.ba_max_lag_frames;
+  if (ba_overdue) {
+    const auto wait_start = Clock::now();
+    ApplyBaResults(stats, /*wait=*/true);
+    ba_submitted_frame_.reset();
+    stats.ms_ba += MillisecondsSince(wait_start);
+  } else {
+    ApplyBaResults(stats, /*wait=*/false);
+  }
   ReportCreaseCheck(stats);
   ApplyLockResults(stats, nullptr, /*wait=*/false);
   SubmitDeferredBa(stats);
@@ -422,6 +432,7 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   const auto start = Clock::now();
   stats.keyframe = true;
   const int kf_id = map_.AddKeyframe(frame);
+  stats.keyframe_id = kf_id;
   for (int i = 0; i < frame.size(); ++i) {
     const int id = frame.map_point_ids[i];
     if (id < 0 || frame.outlier[i] || !map_.HasPoint(id)) continue;
@@ -539,7 +550,12 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats) {
 void Tracker::SubmitBa(int keyframe_id, FrameStats& stats) {
   std::optional<BaJob> job = MakeBaJob(keyframe_id, stats);
   // MappingIdle() held: the worker accepts the job.
-  if (job && !ba_worker_->Submit(std::move(*job))) ++ba_counts_.superseded;
+  if (!job) return;
+  if (ba_worker_->Submit(std::move(*job))) {
+    ba_submitted_frame_ = stats.frame;
+  } else {
+    ++ba_counts_.superseded;
+  }
 }
 
 void Tracker::SubmitDeferredBa(FrameStats& stats) {
@@ -559,6 +575,7 @@ void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
   if (!ba_worker_) return;
   std::optional<BaJob> job = wait ? ba_worker_->WaitResult() : ba_worker_->TakeResult();
   if (!job) return;
+  ba_submitted_frame_.reset();
   if (job->correction_epoch != correction_epoch_) {
     // Solved in the frame before a map-lock correction: applying it would undo the correction.
     stats.ba_discarded = true;

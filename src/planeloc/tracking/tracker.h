@@ -49,6 +49,7 @@ struct FrameStats {
   int tracked_points = 0;  // map points matched in the frame (inliers of the final optimization)
   int inliers = 0;         // inliers of the final pose optimization
   bool keyframe = false;
+  std::optional<int> keyframe_id;  // the keyframe this frame became (ba_keyframe refers to it)
   double ms_extract = 0, ms_track = 0, ms_local_map = 0, ms_ba = 0;
   // Median stereo reprojection error (pixels) after the last applied local BA, when one was
   // applied during this frame.
@@ -191,6 +192,8 @@ class Tracker {
   int settle_until_keyframe_id_ = -1;
   // Keyframe whose BA waits for the worker (threaded mode).
   std::optional<int> deferred_ba_keyframe_;
+  // Threaded: the frame at which the BA now on the worker was submitted (LocalBA.maxLagFrames).
+  std::optional<int> ba_submitted_frame_;
   BaCounts ba_counts_;
   Rigid3d cam_from_world_initial_;
 
