@@ -190,6 +190,29 @@ TEST_F(TrackerSimTest, ThreadedBaLandsWithinTheLagBound) {
   EXPECT_GE(landed, 3);
 }
 
+// RunSequence decodes and extracts frame i + 1 while frame i is tracked: the poses are exactly
+// those of Tracker::Track called frame by frame on the same images.
+TEST_F(TrackerSimTest, RunSequenceTracksAsTrackDoesFrameByFrame) {
+  RunOptions run = Run("pipelined", true);
+  run.max_frames = 20;
+  const RunSummary summary = RunSequence(run);
+  ASSERT_EQ(summary.frames, 20);
+
+  const KittiSequence sequence = KittiSequence::Open(result_->sequence_dir, CameraChoice::kAuto);
+  TrackerOptions options;
+  options.deterministic = true;
+  options.ba.num_threads = 1;
+  Tracker tracker(sequence.camera(), options, run.world_from_cam_initial);
+  for (int i = 0; i < summary.frames; ++i) {
+    const StereoPair pair = sequence.LoadStereoPair(i);
+    const TrackResult result = tracker.Track(pair.left, pair.right, sequence.timestamp(i));
+    EXPECT_EQ(result.world_from_cam.translation, summary.world_from_cam[i].translation)
+        << "frame " << i;
+    EXPECT_EQ(result.world_from_cam.rotation.coeffs(), summary.world_from_cam[i].rotation.coeffs())
+        << "frame " << i;
+  }
+}
+
 TEST_F(TrackerSimTest, DeterministicRunsAreBitIdentical) {
   RunOptions first = Run("first", true);
   RunOptions second = Run("second", true);
