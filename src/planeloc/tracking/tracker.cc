@@ -162,13 +162,10 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   const auto track_start = Clock::now();
   const bool ba_overdue = ba_submitted_frame_ && options_.ba_max_lag_frames > 0 &&
                           stats.frame - *ba_submitted_frame_ >= options_.ba_max_lag_frames;
+  ApplyBaResults(stats, /*wait=*/ba_overdue);
   if (ba_overdue) {
-    const auto wait_start = Clock::now();
-    ApplyBaResults(stats, /*wait=*/true);
-    ba_submitted_frame_.reset();
-    stats.ms_ba += MillisecondsSince(wait_start);
-  } else {
-    ApplyBaResults(stats, /*wait=*/false);
+    ba_submitted_frame_.reset();  // also when the worker had no result to give
+    stats.ms_ba += MillisecondsSince(track_start);
   }
   ReportCreaseCheck(stats);
   ApplyLockResults(stats, nullptr, /*wait=*/false);
