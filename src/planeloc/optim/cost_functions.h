@@ -36,7 +36,9 @@
 //                                                          (window BA)
 //   StereoPoseOnlyError / MonoPoseOnlyError           point fixed, analytic (OptimizePose)
 //   PointToPlaneError                                  templated autodiff functor
+//   PointToPlanePadded                                 same, analytic, 3 rows (window BA)
 //   PointToCorrectedPlaneError, PlaneCorrectionPrior   the plane's map error as a nuisance
+//   PointToCorrectedPlanePadded                        same, 3 rows (window BA)
 // Derivations and design notes: docs/optim.md.
 #pragma once
 
@@ -313,6 +315,34 @@ class PointToPlaneError {
   const double inv_sigma_;
 };
 
+// PointToPlaneError with analytic Jacobian and two identically zero rows, for the window BA: with
+// the (padded) reprojection rows it gives the window a single row size of 3, so Ceres runs its
+// compiled <3, 3, 3> Schur eliminator instead of the dynamic one. Same cost and gradient.
+class PointToPlanePadded : public ceres::SizedCostFunction<3, 3> {
+ public:
+  // sigma in metres (> 0), as PointToPlaneError.
+  PointToPlanePadded(const Plane& plane, double sigma)
+      : normal_(plane.normal), d_(plane.d), inv_sigma_(1.0 / sigma) {}
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const Eigen::Map<const Eigen::Vector3d> x(parameters[0]);
+    residuals[0] = inv_sigma_ * (normal_.dot(x) + d_);
+    residuals[1] = residuals[2] = 0.0;
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> j(jacobians[0]);
+      j.setZero();
+      j.row(0) = inv_sigma_ * normal_.transpose();
+    }
+    return true;
+  }
+
+ private:
+  const Eigen::Vector3d normal_;
+  const double d_;
+  const double inv_sigma_;
+};
+
 // The point-to-plane residual against a map plane corrected by c (see the file comment).
 class PointToCorrectedPlaneError {
  public:
@@ -351,6 +381,28 @@ class PointToCorrectedPlaneError {
  private:
   Eigen::Vector3d normal_, anchor_, u_, v_;
   double inv_sigma_;
+};
+
+// PointToCorrectedPlaneError with two identically zero rows, for the window BA (see
+// PointToPlanePadded); blocks X[3], c[3]. Same cost and gradient.
+class PointToCorrectedPlanePadded {
+ public:
+  explicit PointToCorrectedPlanePadded(const PointToCorrectedPlaneError& error) : error_(error) {}
+
+  template <typename T>
+  bool operator()(const T* const point, const T* const correction, T* residual) const {
+    residual[1] = residual[2] = T(0);
+    return error_(point, correction, residual);
+  }
+
+  static ceres::CostFunction* Create(const Plane& plane, const Eigen::Vector3d& anchor,
+                                     double sigma) {
+    return new ceres::AutoDiffCostFunction<PointToCorrectedPlanePadded, 3, 3, 3>(
+        new PointToCorrectedPlanePadded(PointToCorrectedPlaneError(plane, anchor, sigma)));
+  }
+
+ private:
+  const PointToCorrectedPlaneError error_;
 };
 
 // The prior of a plane correction c = (offset, tilt_u, tilt_v): c whitened by its sigmas.

@@ -241,6 +241,40 @@ TEST(CostFunctions, JacobiansMatchNumericDifferentiation) {
     std::unique_ptr<ceres::CostFunction> to_corrected(
         PointToCorrectedPlaneError::Create(plane, anchor, 0.05));
     ExpectGradientsMatch(*to_corrected, {nullptr, nullptr}, {x.data(), correction.data()});
+
+    // The padded variants: row 0 equals the 1-row residual and Jacobian, rows 1-2 are zero.
+    const PointToPlanePadded to_plane_padded(plane, 0.05);
+    ExpectGradientsMatch(to_plane_padded, {nullptr}, {x.data()});
+    std::unique_ptr<ceres::CostFunction> to_corrected_padded(
+        PointToCorrectedPlanePadded::Create(plane, anchor, 0.05));
+    ExpectGradientsMatch(*to_corrected_padded, {nullptr, nullptr}, {x.data(), correction.data()});
+    const double* plane_params[1] = {x.data()};
+    const double* corrected_params[2] = {x.data(), correction.data()};
+    double r1[1], j1x[3], j1c[3], r3[3], j3x[9], j3c[9];
+    double* j1[2] = {j1x, j1c};
+    double* j3[2] = {j3x, j3c};
+    struct Case {
+      const ceres::CostFunction* unpadded;
+      const ceres::CostFunction* padded;
+      const double* const* params;
+      int blocks;
+    };
+    for (const Case& c :
+         {Case{to_plane.get(), &to_plane_padded, plane_params, 1},
+          Case{to_corrected.get(), to_corrected_padded.get(), corrected_params, 2}}) {
+      ASSERT_TRUE(c.unpadded->Evaluate(c.params, r1, j1));
+      ASSERT_TRUE(c.padded->Evaluate(c.params, r3, j3));
+      EXPECT_NEAR(r3[0], r1[0], 1e-12 * (1 + std::abs(r1[0])));
+      EXPECT_EQ(r3[1], 0.0);
+      EXPECT_EQ(r3[2], 0.0);
+      for (int b = 0; b < c.blocks; ++b) {
+        for (int col = 0; col < 3; ++col) {
+          EXPECT_NEAR(j3[b][col], j1[b][col], 1e-12 * (1 + std::abs(j1[b][col])));
+          EXPECT_EQ(j3[b][3 + col], 0.0);
+          EXPECT_EQ(j3[b][6 + col], 0.0);
+        }
+      }
+    }
   }
 }
 

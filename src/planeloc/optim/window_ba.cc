@@ -130,9 +130,9 @@ WindowState BuildState(const StereoCamera& camera, const WindowProblem& problem,
       s.plane_costs.emplace_back(nullptr);
     } else if (correction >= 0) {
       s.plane_costs.emplace_back(
-          PointToCorrectedPlaneError::Create(plane->plane_in_world, plane->anchor, sigma));
+          PointToCorrectedPlanePadded::Create(plane->plane_in_world, plane->anchor, sigma));
     } else {
-      s.plane_costs.emplace_back(PointToPlaneError::Create(plane->plane_in_world, sigma));
+      s.plane_costs.emplace_back(new PointToPlanePadded(plane->plane_in_world, sigma));
     }
   }
   const PinholeStereoIntrinsics k = PinholeStereoIntrinsics::From(camera);
