@@ -43,12 +43,16 @@ std::vector<LineSegment> DetectLineSegments(const cv::Mat& grey, const LsdOption
   } else {
     lsd->detect(grey, lines, widths, precisions);
   }
+  // LSD works on the image resampled by `scale` and divides its coordinates by it, which puts a
+  // point at pixel centre x at x + 0.5 - 0.5 / scale (an edge between pixels 149 and 150 comes
+  // out at 149.375 for scale 0.8). Undone here: segments are in pixel-centre coordinates.
+  const float to_centre = static_cast<float>(0.5 / options.scale - 0.5);
   std::vector<LineSegment> segments;
   segments.reserve(lines.size());
   for (size_t i = 0; i < lines.size(); ++i) {
     LineSegment segment;
-    segment.start = Eigen::Vector2d(lines[i][0], lines[i][1]);
-    segment.end = Eigen::Vector2d(lines[i][2], lines[i][3]);
+    segment.start = Eigen::Vector2d(lines[i][0] + to_centre, lines[i][1] + to_centre);
+    segment.end = Eigen::Vector2d(lines[i][2] + to_centre, lines[i][3] + to_centre);
     segment.width = i < widths.size() ? widths[i] : 0.0;
     if (options.advanced_refinement) {
       segment.precision_or_nfa = i < nfas.size() ? nfas[i] : 0.0;

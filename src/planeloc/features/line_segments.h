@@ -9,10 +9,12 @@
 namespace planeloc {
 
 struct LineSegment {
-  Eigen::Vector2d start = Eigen::Vector2d::Zero();  // pixels (u right, v down)
-  Eigen::Vector2d end = Eigen::Vector2d::Zero();    // pixels; LSD orients start->end so that
-                                                    // the brighter side is on the left
-  double width = 0;                                 // pixels, width of the supporting region
+  // Pixels (u right, v down), pixel centres at integers: an edge between columns 149 and 150
+  // lies at u = 149.5, whatever LsdOptions::scale.
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();
+  Eigen::Vector2d end = Eigen::Vector2d::Zero();  // pixels; LSD orients start->end so that
+                                                  // the brighter side is on the left
+  double width = 0;                               // pixels, width of the supporting region
   double precision_or_nfa = 0;  // angle precision (standard refinement), or -log10(NFA) with
                                 // the advanced refinement
   double Length() const { return (end - start).norm(); }

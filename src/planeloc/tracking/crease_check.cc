@@ -91,6 +91,7 @@ void CreaseCheckOptions::Check() const {
   creases.Check();
   lsd.Check();
   Require(lsd_level >= 0, "lsd_level must be >= 0");
+  Require(strip_margin_px >= 0, "strip_margin_px must be >= 0 (px)");
   Require(label_downsample >= 1, "label_downsample must be >= 1 (px)");
   Require(near_depth > 0 && max_depth > near_depth, "near_depth must be in (0, max_depth) (m)");
   Require(occlusion_margin >= 0 && occlusion_relative >= 0,
@@ -287,6 +288,47 @@ std::vector<LineSegment> DetectSegmentsAtLevel(const cv::Mat& image, int level0_
   return segments;
 }
 
+std::vector<LineSegment> DetectSegmentsAlongRuns(const cv::Mat& image, int level0_width,
+                                                 const std::vector<ProjectedCrease>& runs,
+                                                 const CreaseCheckOptions& options) {
+  const double to_level = static_cast<double>(image.cols) / level0_width;
+  LsdOptions at_level = options.lsd;
+  at_level.min_length_px = options.lsd.min_length_px * to_level;
+  const double margin = options.strip_margin_px * to_level;
+  const double half_height = (options.search_px + options.strip_margin_px) * to_level;
+  std::vector<LineSegment> segments;
+  cv::Mat strip;
+  for (const ProjectedCrease& run : runs) {
+    // Level pixel centres, as DetectSegmentsAtLevel maps them.
+    const Eigen::Vector2d a = (run.start.array() + 0.5) * to_level - 0.5;
+    const Eigen::Vector2d b = (run.end.array() + 0.5) * to_level - 0.5;
+    const double length = (b - a).norm();
+    if (!(length >= 1.0)) continue;
+    const Eigen::Vector2d e = (b - a) / length;
+    const Eigen::Vector2d n(-e.y(), e.x());
+    // Strip pixel (u, v) samples the level at origin + u e + v n.
+    const Eigen::Vector2d origin = a - margin * e - half_height * n;
+    const cv::Size size(static_cast<int>(std::ceil(length + 2 * margin)) + 1,
+                        static_cast<int>(std::ceil(2 * half_height)) + 1);
+    const cv::Matx23d strip_to_level(e.x(), n.x(), origin.x(), e.y(), n.y(), origin.y());
+    // Replicated borders add no edge along the image border (a constant one would).
+    cv::warpAffine(image, strip, strip_to_level, size, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                   cv::BORDER_REPLICATE);
+    for (LineSegment segment : DetectLineSegments(strip, at_level)) {
+      for (Eigen::Vector2d* p : {&segment.start, &segment.end}) {
+        const Eigen::Vector2d in_level = origin + p->x() * e + p->y() * n;
+        *p = (in_level.array() + 0.5) / to_level - 0.5;
+      }
+      segment.width /= to_level;
+      segments.push_back(segment);
+    }
+  }
+  std::stable_sort(
+      segments.begin(), segments.end(),
+      [](const LineSegment& x, const LineSegment& y) { return x.Length() > y.Length(); });
+  return segments;
+}
+
 CreaseChecker::CreaseChecker(const PlaneMap& map, const CreaseCheckOptions& options)
     : options_(options) {
   options_.Check();
@@ -316,7 +358,8 @@ KeyframeCreaseCheck CreaseChecker::Compute(const Rigid3d& cam_from_world,
   check.labels = RenderPlaneLabels(planes_, cam_from_world, camera, options_);
   check.runs = ProjectCreases(creases_, check.labels, cam_from_world, camera, options_);
   const std::vector<LineSegment> segments =
-      DetectSegmentsAtLevel(image, camera.width, options_.lsd);
+      options_.lsd_strips ? DetectSegmentsAlongRuns(image, camera.width, check.runs, options_)
+                          : DetectSegmentsAtLevel(image, camera.width, options_.lsd);
   MatchCreases(segments, options_, check.runs);
 
   CreaseCheckStats& stats = check.stats;

@@ -39,9 +39,15 @@ struct CreaseCheckOptions {
   LsdOptions lsd;  // its min_length_px is in level-0 pixels here
   // ORB pyramid level LSD runs on (Planes.lsdLevel); see docs/experiments.md ("LSD level").
   int lsd_level = 1;
-  int label_downsample = 4;  // label image cell, level-0 pixels
-  double near_depth = 0.5;   // metres: nearer geometry is not rendered
-  double max_depth = 80.0;   // metres: farther geometry is not rendered
+  // LSD only on strips along the visible crease runs (Planes.lsdStrips), each resampled so that
+  // its run is horizontal: search_px + strip_margin_px to each side, strip_margin_px beyond its
+  // ends. Only segments that near a run can match it; the rest of the image is not searched
+  // (docs/crease-check.md). False: LSD on the whole level.
+  bool lsd_strips = true;
+  double strip_margin_px = 8.0;  // level-0 pixels
+  int label_downsample = 4;      // label image cell, level-0 pixels
+  double near_depth = 0.5;       // metres: nearer geometry is not rendered
+  double max_depth = 80.0;       // metres: farther geometry is not rendered
   // Metres, plus occlusion_relative * depth: a crease sample farther than the depth of the
   // (third) plane its cell shows by more than this is occluded.
   double occlusion_margin = 0.1;
@@ -130,6 +136,12 @@ void MatchCreases(const std::vector<LineSegment>& segments, const CreaseCheckOpt
 // level0_width / image.cols).
 std::vector<LineSegment> DetectSegmentsAtLevel(const cv::Mat& image, int level0_width,
                                                const LsdOptions& options);
+// LSD segments on strips of a pyramid level along `runs` (level-0 pixels in and out), see
+// CreaseCheckOptions::lsd_strips. Longest first; a segment seen by two overlapping strips is
+// reported by both.
+std::vector<LineSegment> DetectSegmentsAlongRuns(const cv::Mat& image, int level0_width,
+                                                 const std::vector<ProjectedCrease>& runs,
+                                                 const CreaseCheckOptions& options);
 
 class CreaseChecker {
  public:

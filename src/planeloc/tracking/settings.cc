@@ -180,6 +180,7 @@ const std::vector<Key>& Keys() {
       D("Planes.creaseSideTolerancePx",
         [](O& o) -> double& { return o.planes.crease.side_tolerance_px; }),
       I("Planes.lsdLevel", [](O& o) -> int& { return o.planes.crease.lsd_level; }),
+      B("Planes.lsdStrips", [](O& o) -> bool& { return o.planes.crease.lsd_strips; }),
       D("Planes.creaseConfirmPx", [](O& o) -> double& { return o.planes.crease.confirm_px; }),
       B("System.deterministic", [](O& o) -> bool& { return o.deterministic; }),
       I("System.threads", [](O& o) -> int& { return o.num_threads; }),
