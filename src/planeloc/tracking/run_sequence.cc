@@ -6,6 +6,7 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -304,9 +305,9 @@ RunSummary RunSequence(const RunOptions& run) {
   std::optional<ProgressBar> progress;
   if (run.show_progress) progress.emplace("run", total, "frames");
   const auto start = std::chrono::steady_clock::now();
-  // Frame i + 1 is decoded, rectified and its features extracted and matched while frame i is
-  // tracked: none of it depends on the tracker's state, and on 2 cores it otherwise sits on the
-  // frame path while tracking, the local map and the keyframe's crease check run on one core.
+  // The next frames are decoded, rectified and their features extracted and matched while frame
+  // i is tracked: none of it depends on the tracker's state, and on 2 cores it otherwise sits on
+  // the frame path while tracking, the local map and the keyframe's crease check run on one core.
   // The result does not depend on it (the features are the same and are tracked in order); an
   // error is raised at its own frame, as without the prefetch.
   struct LoadedFrame {
@@ -331,14 +332,24 @@ RunSummary RunSequence(const RunOptions& run) {
     }
     return loaded;
   };
-  LoadedFrame next;
-  tbb::task_group prefetch;  // after `next`: on an exception it waits for the task writing it
-  if (total > 0) next = load(0);
+  // Two frames ahead: frame i + 1's decoding starts with a serial step (two PNGs), during which
+  // a thread that finished tracking frame i had nothing to help with; frame i + 2's work fills
+  // that gap (measured: docs/bench-tracking.md). Slot i % kFramesAhead holds frame i.
+  constexpr std::size_t kFramesAhead = 2;
+  std::array<LoadedFrame, kFramesAhead> ahead;
+  // After `ahead`: on an exception each group waits for the task writing its slot.
+  std::array<tbb::task_group, kFramesAhead> prefetch;
+  for (std::size_t i = 0; i < std::min(total, kFramesAhead); ++i) {
+    prefetch[i].run([&ahead, &load, i] { ahead[i] = load(i); });
+  }
   for (std::size_t i = 0; i < total; ++i) {
-    prefetch.wait();
-    LoadedFrame current = std::move(next);
-    next = LoadedFrame{};
-    if (i + 1 < total) prefetch.run([&next, &load, i] { next = load(i + 1); });
+    const std::size_t slot = i % kFramesAhead;
+    prefetch[slot].wait();
+    LoadedFrame current = std::move(ahead[slot]);
+    ahead[slot] = LoadedFrame{};
+    if (i + kFramesAhead < total) {
+      prefetch[slot].run([&ahead, &load, slot, i] { ahead[slot] = load(i + kFramesAhead); });
+    }
     std::optional<StereoFeatures> features = std::move(current.features);
     if (!sequence.HasFrame(i)) {
       spdlog::warn("frame {}: image missing ({}), pose from the motion model", i,
