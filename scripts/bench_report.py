@@ -84,6 +84,7 @@ def load(results):
         except (OSError, ValueError) as e:
             raise ReportError(f"{path}: {e} (run scripts/bench.sh first)") from e
     out["gbench"] = load_gbench(results)
+    out["results"] = results
     return out
 
 
@@ -438,6 +439,55 @@ def processes(data, tag):
     return rows
 
 
+STAGES = ("extract", "track", "local_map", "ba")
+
+
+def stage_times(results, run):
+    """Mean ms per frame of each stage of one run, from its per-frame stats (`--stats`), which
+    bench_run.py leaves in <results>/runs/<preset>-<seed>/<run>.jsonl; None when they are not
+    there. Crease checks report their own ms on the stats line of the frame that took them."""
+    path = os.path.join(results, "runs", f"{run['preset']}-{run['seed']}", run["run"] + ".jsonl")
+    if not os.path.exists(path):
+        return None
+    sums = dict.fromkeys(STAGES, 0.0)
+    crease_ms, frames = 0.0, 0
+    with open(path) as f:
+        for line in f:
+            if not line.strip():
+                continue
+            entry = json.loads(line)
+            if "ms" not in entry:
+                continue
+            frames += 1
+            for stage in STAGES:
+                sums[stage] += entry["ms"].get(stage, 0.0)
+            checks = entry.get("crease_check") or []
+            for check in checks if isinstance(checks, list) else [checks]:
+                crease_ms += check.get("ms", 0.0)
+    if frames == 0:
+        return None
+    times = {stage: sums[stage] / frames for stage in STAGES}
+    times["crease"] = crease_ms / frames
+    return times
+
+
+def stages(data, tag):
+    rows = []
+    for run in data["pipeline"]["runs"]:
+        times = stage_times(data["results"], run)
+        if times is None:
+            continue
+        frames = max(run["frames"], 1)
+        wall = 1000.0 * run["loop_s"] / frames
+        cpu = 1000.0 * (run["user_cpu_s"] + run["system_cpu_s"]) / frames
+        frame_thread = times["track"] + times["local_map"] + times["ba"]
+        rows.append([f"`{run['preset']}` seed {run['seed']}: {run['run']}", f"{run['fps']:.1f}",
+                     f"{wall:.1f}", f"{cpu:.1f}", f"{times['extract']:.1f}",
+                     f"{times['track']:.1f}", f"{times['local_map']:.1f}", f"{times['ba']:.1f}",
+                     f"{times['crease']:.1f}", f"{max(wall - frame_thread, 0.0):.1f}", tag])
+    return rows
+
+
 def render(data):
     meta = data["meta"]
     tag = run_tag(meta)
@@ -475,6 +525,21 @@ def render(data):
         "ran.\n\n"
         + table(["process", "command", "wall (s)", "CPU (s)", "peak RSS (MB)", "fps", "measured"],
                 processes(data, tag)))
+    stage_rows = stages(data, tag)
+    if stage_rows:
+        parts.append(
+            "## Per-frame time by stage\n\n"
+            "Means over the frames of each run above, ms per frame, from its per-frame stats "
+            "(`--stats`, key `ms`). *wall* and *CPU*: the run loop's seconds and the process's "
+            "CPU time (all threads) per frame. *extract*: decoding is not in it; ORB on both "
+            "images and stereo matching, in the prefetch of the next frames, off the frame "
+            "thread. *track*, *local map*, *BA*: on the frame thread (*BA*: building and "
+            "submitting the window, waiting for it; all of it in `--deterministic` runs). "
+            "*crease*: the LSD crease checks (inside *BA*, on the frame thread). *rest*: "
+            "wall − track − local map − BA, the frame thread waiting for the next frame's "
+            "features (and writing the trajectory and stats).\n\n"
+            + table(["run", "fps", "wall", "CPU", "extract", "track", "local map", "BA",
+                     "crease", "rest", "measured"], stage_rows))
     others = gbench_others(data, commands, used, tag)
     if others:
         parts.append(

@@ -132,6 +132,18 @@ class BenchReportTest(unittest.TestCase):
         self.assertNotIn("cached", cells[0])
         self.assertEqual(self.row("Processes", "seed 11: run vo-threaded")[4:6], ["111", "60.0"])
 
+    def test_stage_times_from_the_stats_file(self):
+        # runs/small-3/planes-threaded.jsonl: 3 frames. extract (20 + 22 + 24) / 3 = 22.0,
+        # track (0 + 9 + 6) / 3 = 5.0, local map (1 + 0 + 2) / 3 = 1.0, BA (0.5 + 0 + 5.5) / 3 =
+        # 2.0, crease 4.5 / 3 = 1.5; the record: loop 10 s over 300 frames = 33.3 ms wall, CPU
+        # (20 + 1) s / 300 = 70.0 ms, rest 33.3 - 5 - 1 - 2 = 25.3.
+        cells = self.row("Per-frame time by stage", "seed 3: planes-threaded")
+        self.assertEqual(cells[1:10],
+                         ["30.0", "33.3", "70.0", "22.0", "5.0", "1.0", "2.0", "1.5", "25.3"])
+        self.assertEqual(cells[10], TAG)
+        # Runs without a stats file have no row.
+        self.assertNotIn("planes-deterministic", self.section("Per-frame time by stage"))
+
     def test_missing_results_fail_cleanly(self):
         with tempfile.TemporaryDirectory() as empty:
             code, stderr, page = generate(empty)
