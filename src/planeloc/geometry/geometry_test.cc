@@ -126,6 +126,53 @@ TEST(Plane, FitTransformAndDistance) {
       std::invalid_argument);
 }
 
+TEST(PolygonTest, IndexedOutlineAnswersAsTheFullScan) {
+  // Star-shaped, non-convex rings with 5 to 200 vertices (LiDAR outlines are of that kind),
+  // queried in and around their box, exactly on vertices and edges' y, with margins 0 to 0.5.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int inside = 0, near = 0, outside = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 5 + static_cast<int>(unit(rng) * 195);
+    std::vector<Eigen::Vector2d> ring;
+    for (int i = 0; i < n; ++i) {
+      const double angle = 2.0 * M_PI * i / n;
+      const double radius = 2.0 + 8.0 * unit(rng);
+      ring.emplace_back(radius * std::cos(angle), 0.3 * radius * std::sin(angle));
+    }
+    const IndexedPolygon2d indexed(ring);
+    std::vector<Eigen::Vector2d> queries;
+    for (int k = 0; k < 400; ++k) {
+      queries.emplace_back(-12 + 24 * unit(rng), -4 + 8 * unit(rng));
+    }
+    for (const Eigen::Vector2d& v : ring) {
+      queries.push_back(v);
+      queries.emplace_back(v.x() + 0.2, v.y());
+    }
+    for (const double margin : {0.0, 0.1, 0.5}) {
+      for (const Eigen::Vector2d& q : queries) {
+        const bool expected = InsideOrNearPolygon2d(ring, q, margin);
+        ASSERT_EQ(indexed.InsideOrNear(q, margin), expected)
+            << "trial " << trial << ", " << n << " vertices, q " << q.transpose() << ", margin "
+            << margin;
+        if (!expected) {
+          ++outside;
+        } else if (InsidePolygon2d(ring, q)) {
+          ++inside;
+        } else {
+          ++near;
+        }
+      }
+    }
+  }
+  // All three answers occurred (the comparison is not vacuous).
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(near, 100);
+  EXPECT_GT(outside, 1000);
+  EXPECT_FALSE(IndexedPolygon2d({{0, 0}, {1, 0}}).InsideOrNear({0.5, 0}, 1.0));
+  EXPECT_FALSE(IndexedPolygon2d({{0, 0}, {1, 0}, {0, 1}}).InsideOrNear({1e300, -1e300}, 0.5));
+}
+
 }  // namespace
 }  // namespace planeloc
 

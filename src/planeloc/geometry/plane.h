@@ -42,4 +42,26 @@ bool InsidePolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vect
 bool InsideOrNearPolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& q,
                            double margin);
 
+// InsideOrNearPolygon2d for many queries against one ring: the edges are binned into horizontal
+// slabs, so a query tests only the edges whose y-range meets [q.y - margin, q.y + margin]
+// instead of all of them (map outlines have tens to hundreds of vertices). Same answer as
+// InsideOrNearPolygon2d: the same per-edge arithmetic on the edges that can matter.
+class IndexedPolygon2d {
+ public:
+  IndexedPolygon2d() = default;
+  explicit IndexedPolygon2d(std::vector<Eigen::Vector2d> ring);
+
+  // False for a ring of fewer than 3 vertices (as InsideOrNearPolygon2d on an empty ring).
+  bool InsideOrNear(const Eigen::Vector2d& q, double margin) const;
+  const std::vector<Eigen::Vector2d>& ring() const { return ring_; }
+
+ private:
+  int Slab(double y) const;  // unclamped
+
+  std::vector<Eigen::Vector2d> ring_;
+  double min_y_ = 0, slab_height_ = 1;
+  // Edge e joins ring_[e] and ring_[e - 1] (ring_[n - 1] for e = 0), as InsidePolygon2d walks.
+  std::vector<std::vector<int>> slab_edges_;
+};
+
 }  // namespace planeloc

@@ -142,6 +142,7 @@ PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationO
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
+    flat.outline = IndexedPolygon2d(flat.ring);
     lo.array() -= inflate;
     hi.array() += inflate;
     const Eigen::Array3d first = (lo / options_.cell_size).array().floor();
@@ -210,7 +211,7 @@ std::int64_t PlaneAssociator::CellKey(const Eigen::Vector3d& point) const {
 bool PlaneAssociator::InsideOutline(const FlatPlane& flat, const Eigen::Vector3d& point) const {
   if (flat.ring.size() < 3) return true;
   const Eigen::Vector2d q(point.dot(flat.u), point.dot(flat.v));
-  return InsideOrNearPolygon2d(flat.ring, q, options_.polygon_margin);
+  return flat.outline.InsideOrNear(q, options_.polygon_margin);
 }
 
 template <typename F>

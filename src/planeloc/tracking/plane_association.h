@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "planeloc/geometry/camera.h"
+#include "planeloc/geometry/plane.h"
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/tracking/crease_check.h"
@@ -248,6 +249,7 @@ class PlaneAssociator {
     MapPlane plane;
     Eigen::Vector3d u, v;               // in-plane basis
     std::vector<Eigen::Vector2d> ring;  // outline in (u, v); empty: unbounded
+    IndexedPolygon2d outline;           // the ring, indexed for InsideOutline
     PlaneHealth health;
     double bias2 = 0;                         // m^2, squared median once enough points
     std::map<int, double> distance_by_point;  // point id -> latest signed distance
