@@ -51,15 +51,29 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> Plane::InPlaneBasis() const {
   return {u, normal.cross(u)};
 }
 
+namespace {
+
+// The edge (a, b) crosses the horizontal ray from q towards +x (crossing-number test).
+bool CrossesRayRight(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& q) {
+  return (a.y() > q.y()) != (b.y() > q.y()) &&
+         q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x();
+}
+
+// The segment (a, b) passes within sqrt(margin2) of q.
+bool EdgeNear(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& q,
+              double margin2) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((q - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - q).squaredNorm() <= margin2;
+}
+
+}  // namespace
+
 bool InsidePolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen::Vector2d& q) {
   bool inside = false;
   for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-    const Eigen::Vector2d& a = ring[i];
-    const Eigen::Vector2d& b = ring[j];
-    if ((a.y() > q.y()) != (b.y() > q.y()) &&
-        q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
+    if (CrossesRayRight(ring[i], ring[j], q)) inside = !inside;
   }
   return inside;
 }
@@ -69,10 +83,7 @@ bool InsideOrNearPolygon2d(const std::vector<Eigen::Vector2d>& ring, const Eigen
   if (InsidePolygon2d(ring, q)) return true;
   const double margin2 = margin * margin;
   for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-    const Eigen::Vector2d ab = ring[j] - ring[i];
-    const double length2 = ab.squaredNorm();
-    const double t = length2 > 0.0 ? std::clamp((q - ring[i]).dot(ab) / length2, 0.0, 1.0) : 0.0;
-    if ((ring[i] + t * ab - q).squaredNorm() <= margin2) return true;
+    if (EdgeNear(ring[i], ring[j], q, margin2)) return true;
   }
   return false;
 }
@@ -119,10 +130,7 @@ bool IndexedPolygon2d::InsideOrNear(const Eigen::Vector2d& q, double margin) con
     bool inside = false;
     for (const int e : slab_edges_[std::clamp(slab, 0, num_slabs - 1)]) {
       const auto [a, b] = edge(e);
-      if ((a.y() > q.y()) != (b.y() > q.y()) &&
-          q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-        inside = !inside;
-      }
+      if (CrossesRayRight(a, b, q)) inside = !inside;
     }
     if (inside) return true;
   }
@@ -134,10 +142,7 @@ bool IndexedPolygon2d::InsideOrNear(const Eigen::Vector2d& q, double margin) con
   for (int s = first; s <= last; ++s) {
     for (const int e : slab_edges_[s]) {
       const auto [a, b] = edge(e);
-      const Eigen::Vector2d ab = b - a;
-      const double length2 = ab.squaredNorm();
-      const double t = length2 > 0.0 ? std::clamp((q - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-      if ((a + t * ab - q).squaredNorm() <= margin2) return true;
+      if (EdgeNear(a, b, q, margin2)) return true;
     }
   }
   return false;

@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "planeloc/util/error.h"
 
@@ -137,12 +139,13 @@ PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationO
       continue;
     }
     Eigen::Vector3d lo = plane.polygon.front(), hi = plane.polygon.front();
+    std::vector<Eigen::Vector2d> ring;
     for (const auto& p : plane.polygon) {
-      flat.ring.emplace_back(p.dot(flat.u), p.dot(flat.v));
+      ring.emplace_back(p.dot(flat.u), p.dot(flat.v));
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
-    flat.outline = IndexedPolygon2d(flat.ring);
+    flat.outline = IndexedPolygon2d(std::move(ring));
     lo.array() -= inflate;
     hi.array() += inflate;
     const Eigen::Array3d first = (lo / options_.cell_size).array().floor();
@@ -209,7 +212,7 @@ std::int64_t PlaneAssociator::CellKey(const Eigen::Vector3d& point) const {
 }
 
 bool PlaneAssociator::InsideOutline(const FlatPlane& flat, const Eigen::Vector3d& point) const {
-  if (flat.ring.size() < 3) return true;
+  if (flat.outline.ring().size() < 3) return true;
   const Eigen::Vector2d q(point.dot(flat.u), point.dot(flat.v));
   return flat.outline.InsideOrNear(q, options_.polygon_margin);
 }

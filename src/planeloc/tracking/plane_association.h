@@ -247,9 +247,8 @@ class PlaneAssociator {
  private:
   struct FlatPlane {
     MapPlane plane;
-    Eigen::Vector3d u, v;               // in-plane basis
-    std::vector<Eigen::Vector2d> ring;  // outline in (u, v); empty: unbounded
-    IndexedPolygon2d outline;           // the ring, indexed for InsideOutline
+    Eigen::Vector3d u, v;      // in-plane basis
+    IndexedPolygon2d outline;  // in (u, v); fewer than 3 vertices: unbounded
     PlaneHealth health;
     double bias2 = 0;                         // m^2, squared median once enough points
     std::map<int, double> distance_by_point;  // point id -> latest signed distance
