@@ -27,8 +27,8 @@ class StereoSource {
   // Seconds (the source's clock), increasing.
   virtual double timestamp(std::size_t index) const = 0;
   // Decodes frame `index`. Throws InputError naming the file or topic when it cannot. RunSequence
-  // calls it on another thread than the other methods (it decodes the next frame while the
-  // current one is tracked), one call at a time: it must not share mutable state with them.
+  // calls it on worker threads while the current frame is tracked, for two frames at once: it
+  // must be safe to call concurrently with itself and with the other methods.
   virtual StereoPair LoadStereoPair(std::size_t index) const = 0;
   // False when the frame's images are known to be missing; then MissingFrame says which.
   virtual bool HasFrame(std::size_t index) const {

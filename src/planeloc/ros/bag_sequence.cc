@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <optional>
 
 #include "planeloc/ros/ros_conversions.h"
@@ -102,6 +103,7 @@ struct BagSequence::Impl {
   std::filesystem::path path_;
   BagOptions options_;
   rosbag::Bag bag_;
+  mutable std::mutex read_mutex_;  // guards reads from bag_ after Open
   std::vector<rosbag::MessageInstance> left_, right_;
   std::vector<Pair> pairs_;
   StereoCamera camera_;
@@ -229,9 +231,19 @@ void BagSequence::Impl::MatchPairs(const std::vector<double>& left,
 
 cv::Mat BagSequence::Impl::LoadImage(const rosbag::MessageInstance& message,
                                      const std::string& topic) const {
-  cv::Mat image = message.getDataType() == kCompressedType
-                      ? GreyImage(*message.instantiate<sensor_msgs::CompressedImage>(), topic)
-                      : GreyImage(*message.instantiate<sensor_msgs::Image>(), topic);
+  // rosbag::Bag reads every message through one file handle and shared chunk buffers, so reads
+  // take turns; the decoding, which is most of the time, runs outside the lock.
+  sensor_msgs::CompressedImageConstPtr compressed;
+  sensor_msgs::ImageConstPtr raw;
+  {
+    const std::lock_guard<std::mutex> lock(read_mutex_);
+    if (message.getDataType() == kCompressedType) {
+      compressed = message.instantiate<sensor_msgs::CompressedImage>();
+    } else {
+      raw = message.instantiate<sensor_msgs::Image>();
+    }
+  }
+  cv::Mat image = compressed ? GreyImage(*compressed, topic) : GreyImage(*raw, topic);
   CheckInput(image.cols == camera_.width && image.rows == camera_.height, topic, 0,
              fmt::format("in {}: the image is {}x{}, the camera info says {}x{}", path_.string(),
                          image.cols, image.rows, camera_.width, camera_.height),

@@ -11,6 +11,9 @@
 #include <iostream>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/ros/bag_writer.h"
@@ -136,6 +139,43 @@ TEST_F(BagSequenceTest, ColourAndCompressedBagsDecodeToTheSameGrey) {
   const double jpeg_mae = cv::norm(jpeg.left, kitti.left, cv::NORM_L1) / kitti.left.total();
   std::cout << "jpeg mean absolute error " << jpeg_mae << "\n";
   EXPECT_LT(jpeg_mae, 3.0);
+}
+
+// RunSequence decodes two frames at once (io/stereo_source.h). rosbag::Bag reads through one file
+// handle, so unguarded concurrent reads fail ("Error parsing header", seen in CI) or return
+// another message's bytes. Four threads read every frame of a png bag in different orders, ten
+// times over; each read must equal the one-thread read.
+TEST_F(BagSequenceTest, ConcurrentReadsGiveTheSameFrames) {
+  const auto bag = BagSequence::Open(WriteBag("concurrent", "png"), Topics());
+  std::vector<StereoPair> expected;
+  for (int i = 0; i < kFrames; ++i) expected.push_back(bag->LoadStereoPair(i));
+  constexpr int kThreads = 4, kRounds = 10;
+  std::vector<int> mismatches(kThreads, 0);
+  std::vector<std::string> errors(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      try {
+        for (int round = 0; round < kRounds; ++round) {
+          for (int k = 0; k < kFrames; ++k) {
+            const int i = (t % 2 == 0) ? (k + t) % kFrames : kFrames - 1 - (k + t) % kFrames;
+            const StereoPair pair = bag->LoadStereoPair(i);
+            if (cv::norm(pair.left, expected[i].left, cv::NORM_INF) != 0 ||
+                cv::norm(pair.right, expected[i].right, cv::NORM_INF) != 0) {
+              ++mismatches[t];
+            }
+          }
+        }
+      } catch (const std::exception& e) {
+        errors[t] = e.what();
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (int t = 0; t < kThreads; ++t) {
+    EXPECT_EQ(mismatches[t], 0) << "thread " << t;
+    EXPECT_EQ(errors[t], "") << "thread " << t;
+  }
 }
 
 TEST_F(BagSequenceTest, PairsWithinTheToleranceAndCountsTheRest) {
