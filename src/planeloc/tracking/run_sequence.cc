@@ -140,7 +140,7 @@ EffectiveSettings Effective(const RunOptions& run, std::optional<SettingsFile> f
   if (options.deterministic)
     options.ba.num_threads = 1;
   else
-    options.ba.num_threads = options.num_threads;
+    options.ba.num_threads = options.ba_threads > 0 ? options.ba_threads : options.num_threads;
   options.Check();
   return effective;
 }

@@ -105,6 +105,7 @@ const std::vector<Key>& Keys() {
       I("LocalBA.windowKeyframesTurn", [](O& o) -> int& { return o.ba_window_keyframes_turn; }),
       D("LocalBA.turnAngleDeg", [](O& o) -> double& { return o.ba_turn_angle_deg; }),
       I("LocalBA.maxLagFrames", [](O& o) -> int& { return o.ba_max_lag_frames; }),
+      I("LocalBA.threads", [](O& o) -> int& { return o.ba_threads; }),
       D("Planes.maxDistance", [](O& o) -> double& { return o.planes.max_distance; }),
       D("Planes.polygonMargin", [](O& o) -> double& { return o.planes.polygon_margin; }),
       D("Planes.minPlaneArea", [](O& o) -> double& { return o.planes.min_plane_area; }),
@@ -321,6 +322,7 @@ void TrackerOptions::Check() const {
           "maintenance.keep_keyframes must be 0 or >= max(max_local_keyframes, "
           "ba_window_keyframes_turn + ba_max_fixed_keyframes)");
   Require(num_threads >= 1, "num_threads must be >= 1");
+  Require(ba_threads >= 0, "ba_threads (LocalBA.threads) must be >= 0");
 }
 
 SettingsFile LoadTrackerSettings(const std::filesystem::path& path, const TrackerOptions& defaults,
