@@ -54,7 +54,6 @@ void TrackSequence(benchmark::State& state, const LoadedSequence* sequence) {
   TrackerOptions options;
   options.num_threads = static_cast<int>(state.range(0));
   options.deterministic = state.range(1) != 0;
-  options.ba.num_threads = options.deterministic ? 1 : options.num_threads;
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(options.num_threads));
   double extract = 0, track = 0, local_map = 0, ba = 0;

@@ -57,9 +57,8 @@ Localizer::Localizer(const StereoCamera& camera, const LocalizerOptions& options
   camera_.Check();
   LocalizerOptions effective = options;
   TrackerOptions& tracker = effective.tracker;
-  // As `planeloc run`: the deterministic mode solves the local BA in line on one thread.
+  // As `planeloc run`: the deterministic mode solves the local BA in line.
   if (effective.deterministic) tracker.deterministic = true;
-  tracker.ba.num_threads = tracker.deterministic ? 1 : tracker.num_threads;
   effective.Check();
   if (plane_map) plane_map_ = std::make_unique<PlaneMap>(std::move(*plane_map));
   tracker_ = std::make_unique<Tracker>(camera_, tracker, effective.world_from_cam_initial,

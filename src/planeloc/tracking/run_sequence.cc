@@ -137,10 +137,6 @@ EffectiveSettings Effective(const RunOptions& run, std::optional<SettingsFile> f
   TrackerOptions& options = effective.options;
   if (run.deterministic) options.deterministic = true;
   if (run.threads > 0) options.num_threads = run.threads;
-  if (options.deterministic)
-    options.ba.num_threads = 1;
-  else
-    options.ba.num_threads = options.ba_threads > 0 ? options.ba_threads : options.num_threads;
   options.Check();
   return effective;
 }

@@ -110,8 +110,9 @@ struct TrackerOptions {
 
   // Deterministic: local BA in line on the tracking thread (bit-identical runs).
   bool deterministic = false;
-  int num_threads = 2;  // threads for feature extraction and BA (>= 1)
-  // Ceres threads of the threaded local BA (LocalBA.threads); 0: num_threads. One by default:
+  int num_threads = 2;  // threads for feature extraction (>= 1)
+  // Ceres threads of the threaded local BA (LocalBA.threads); 0: num_threads. The tracker sets
+  // ba.num_threads from this (one with `deterministic`). One by default:
   // the BA worker is already a thread beside the frame thread and the extraction, and a second
   // Ceres thread on 2 cores only oversubscribes them (kitti07-like seed 1, 5 alternated runs: 44.7
   // against 42.9 fps, ATE 0.085 against 0.091 m; docs/bench-tracking.md). `--deterministic` solves

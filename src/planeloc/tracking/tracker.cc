@@ -92,7 +92,10 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
       cam_from_world_initial_(world_from_cam_initial.Inverse()) {
   options_.Check();
   camera_.Check();
-  if (options_.deterministic) options_.ba.num_threads = 1;  // Ceres sums in thread order
+  // Ceres sums in thread order: one thread for bit-identical runs.
+  options_.ba.num_threads = options_.deterministic    ? 1
+                            : options_.ba_threads > 0 ? options_.ba_threads
+                                                      : options_.num_threads;
   if (plane_map) {
     planes_ = std::make_unique<PlaneAssociator>(*plane_map, options_.planes);
     // An exact start is locked from frame 0; the locker still re-registers after a loss.

@@ -201,7 +201,6 @@ TEST_F(TrackerSimTest, RunSequenceTracksAsTrackDoesFrameByFrame) {
   const KittiSequence sequence = KittiSequence::Open(result_->sequence_dir, CameraChoice::kAuto);
   TrackerOptions options;
   options.deterministic = true;
-  options.ba.num_threads = 1;
   Tracker tracker(sequence.camera(), options, run.world_from_cam_initial);
   for (int i = 0; i < summary.frames; ++i) {
     const StereoPair pair = sequence.LoadStereoPair(i);
