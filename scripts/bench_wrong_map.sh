@@ -6,7 +6,10 @@
 # Also a "noisy" map: built from the GT poses with 5 cm / 0.2 deg noise (scripts/noisy_poses.py).
 # And "refined": the same noisy poses refined by `planeloc map refine-poses` (scan-to-scan ICP in a
 # pose graph with the noisy poses as priors) before the map is built.
-# Prints one table row per seed: seed vo clean move0.1 move0.2 move0.3 rot2 noisy (metres).
+# And "oracle": the clean map without the planes the wrong maps corrupt (corrupt_planes.py
+# --remove), the best a tracker that disables exactly the wrong planes can do.
+# Prints one table row per seed: seed vo clean move0.1 move0.2 move0.3 rot2 oracle noisy refined
+# (metres).
 #
 # Usage: scripts/bench_wrong_map.sh [--preset tiny|small] [--seeds "3 11 21"] [--out DIR]
 #        [--config FILE] [--tag NAME] [--init-sigma "S_XY S_Z S_YAW_DEG"] [--kinds "clean move0.2"]
@@ -29,7 +32,7 @@ out=/tmp/planeloc-bench-wrong-map
 config=()
 tag=run
 init_sigma="0 0 0"
-kinds="vo clean move0.1 move0.2 move0.3 rot2 noisy refined"
+kinds="vo clean move0.1 move0.2 move0.3 rot2 oracle noisy refined"
 draws=0
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -64,10 +67,11 @@ for seed in $seeds; do
       --out "$d/map.pcd" --voxel 0.10 >>"$d/log.txt" 2>&1
     "$planeloc" map planes --map "$d/map.pcd" --out "$d/planes.json" >>"$d/log.txt" 2>&1
   fi
-  for kind in move0.1 move0.2 move0.3 rot2; do
+  for kind in move0.1 move0.2 move0.3 rot2 oracle; do
     case "$kind" in
       move*) arg=(--move "${kind#move}") ;;
       rot*) arg=(--rotate-deg "${kind#rot}") ;;
+      oracle) arg=(--remove) ;;
     esac
     python3 "$root/scripts/corrupt_planes.py" "$d/planes.json" "$d/planes_$kind.json" \
       --seed "$seed" --fraction 0.2 "${arg[@]}" 2>>"$d/log.txt"

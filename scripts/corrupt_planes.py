@@ -5,6 +5,7 @@ its normal or rotated about its centroid (issue 10's "a map that can be wrong" b
   corrupt_planes.py IN.json OUT.json --seed 1 --fraction 0.2 --move 0.2
   corrupt_planes.py IN.json OUT.json --seed 1 --fraction 0.2 --rotate-deg 2
   corrupt_planes.py IN.json OUT.json --seed 1 --jitter 0.0005
+  corrupt_planes.py IN.json OUT.json --seed 1 --fraction 0.2 --remove
 
 Only planes with area >= --min-area (the tracker's Planes.minPlaneArea, 8 m^2) are candidates,
 so the fraction is of the planes the tracker uses. Each chosen plane moves by +-move metres
@@ -14,6 +15,10 @@ random in-plane axis through its centroid. The chosen ids go to stderr. python3 
 S = 0.5 mm the map is the same to any measurement, but the tracker's run is not (it is chaotic in
 its map), so runs over a few such draws give the scatter of a single run (bench_wrong_map.sh
 --draws).
+--remove drops the planes that --move or --rotate-deg would corrupt (the same seed and fraction
+choose the same planes): the "oracle" map, what a tracker that knew exactly which planes are wrong
+and disabled them from the start would use. Its ATE is the best that disabling wrong planes can
+reach, the reference for the wrong-map bound.
 """
 import argparse
 import json
@@ -54,9 +59,11 @@ def main():
     parser.add_argument("--min-area", type=float, default=8.0)
     parser.add_argument("--jitter", type=float, default=0.0,
                         help="metres: every plane moved by N(0, jitter) along its normal")
+    parser.add_argument("--remove", action="store_true",
+                        help="drop the chosen planes instead of corrupting them (oracle map)")
     args = parser.parse_args()
-    if sum(x != 0.0 for x in (args.move, args.rotate_deg, args.jitter)) != 1:
-        parser.error("give exactly one of --move, --rotate-deg and --jitter")
+    if sum(x != 0.0 for x in (args.move, args.rotate_deg, args.jitter)) + args.remove != 1:
+        parser.error("give exactly one of --move, --rotate-deg, --jitter and --remove")
     with open(args.input) as f:
         document = json.load(f)
     planes = document["planes"]
@@ -78,6 +85,15 @@ def main():
     rng = random.Random(args.seed)
     count = max(1, round(args.fraction * len(candidates)))
     chosen = sorted(rng.sample(candidates, count))
+    if args.remove:
+        ids = [planes[i]["id"] for i in chosen]
+        document["planes"] = [p for i, p in enumerate(planes) if i not in set(chosen)]
+        document.setdefault("stats", {})["removed"] = {
+            "seed": args.seed, "fraction": args.fraction, "ids": ids}
+        print(f"planes {ids} removed", file=sys.stderr)
+        with open(args.output, "w") as f:
+            json.dump(document, f, indent=1)
+        return 0
     for i in chosen:
         p = planes[i]
         n = normalized(p["normal"])

@@ -166,14 +166,25 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
   std::vector<double> map_variances;     // per problem point, of its association
   std::vector<double> common_variances;  // per problem point, of its association's plane
   std::map<int, int> plane_points;       // associations per plane in this window
+  // Decided from the points' stereo measurements, not from their BA positions (hysteresis). All
+  // of the window's points are recorded before any is associated: the records may move the
+  // gate's centre (PlaneAssociator::FinishRecords, the trajectory's offset from the map).
+  std::vector<std::optional<PointEstimate>> estimates;
+  if (planes) {
+    estimates.reserve(point_ids.size());
+    for (int id : point_ids) {
+      estimates.push_back(VisualPointEstimate(map, map.point(id), camera, options));
+      if (estimates.back()) planes->Record(id, *estimates.back());
+    }
+    planes->FinishRecords();
+  }
+  std::size_t point_index = 0;
   for (int id : point_ids) {
     const MapPoint& point = map.point(id);
     WindowPoint window_point{id, point.point_in_world, std::nullopt};
     double map_variance = 0, common_variance = 0;
     if (planes) {
-      // Decided from the point's stereo measurements, not from its BA position (hysteresis).
-      if (const auto estimate = VisualPointEstimate(map, point, camera, options)) {
-        planes->Record(id, *estimate);
+      if (const auto& estimate = estimates[point_index++]) {
         auto association = planes->Associate(*estimate);
         if (association && !planes->GateAllows(association->plane_id, estimate->point_in_map,
                                                KeypointViews(map, point))) {

@@ -20,6 +20,25 @@ namespace {
 
 constexpr std::int64_t kAxisCells = 1 << 20;  // per axis, centred on 0: +-5 000 km at 5 m
 
+struct RobustLocation {
+  double median = 0;
+  double standard_error = 0;  // of the median
+};
+
+// Median of `values` (reordered) and its standard error from the MAD (Gaussian: sigma = 1.4826
+// MAD, standard error of a median ~1.2533 sigma / sqrt(n)), with a 5 mm floor on sigma: plane
+// maps and stereo are not better than that.
+RobustLocation MedianAndError(std::vector<double>& values) {
+  const std::size_t n = values.size();
+  auto mid = values.begin() + static_cast<std::ptrdiff_t>(n / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  const double median = *mid;
+  for (double& value : values) value = std::abs(value - median);
+  std::nth_element(values.begin(), mid, values.end());
+  const double sigma = std::max(1.4826 * *mid, 0.005);
+  return {median, 1.2533 * sigma / std::sqrt(static_cast<double>(n))};
+}
+
 }  // namespace
 
 void PlaneAssociationOptions::Check() const {
@@ -74,6 +93,20 @@ void PlaneAssociationOptions::Check() const {
   }
   if (warn_after_windows < 1) {
     throw OptionsError("PlaneAssociationOptions.warn_after_windows must be >= 1");
+  }
+  if (consensus_min_planes < 2) {
+    throw OptionsError(
+        "PlaneAssociationOptions.consensus_min_planes must be >= 2 (one plane could be the wrong "
+        "one)");
+  }
+  if (consensus_min_points < 1) {
+    throw OptionsError("PlaneAssociationOptions.consensus_min_points must be >= 1");
+  }
+  if (!(std::isfinite(consensus_min_offset) && consensus_min_offset >= 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.consensus_min_offset must be >= 0 (m)");
+  }
+  if (!(std::isfinite(consensus_tolerance) && consensus_tolerance > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.consensus_tolerance must be > 0 (m)");
   }
   crease.Check();
 }
@@ -131,6 +164,11 @@ PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationO
     FlatPlane flat;
     flat.plane = plane;
     std::tie(flat.u, flat.v) = plane.plane_in_map.InPlaneBasis();
+    const Eigen::Vector3d& up = planes.frame.up;
+    flat.facade = plane.kind == "facade" ||
+                  (plane.kind.empty() && !up.isZero() &&
+                   std::abs(plane.plane_in_map.normal.dot(up.normalized())) <
+                       std::sin(15.0 * std::numbers::pi / 180.0));
     const std::size_t index = planes_.size();
     index_by_id_[plane.id] = index;
     if (plane.polygon.size() < 3) {
@@ -273,10 +311,14 @@ std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& 
     // points near the kerb and lift the camera).
     if (flat.health.disabled && !options_.disabled_planes_block) return true;
     const double s = SurfaceDistance(flat, x);
-    if (std::abs(s) > options_.max_distance) return true;
+    // The gate is centred where a correct plane's points sit given the trajectory's offset.
+    const double off_centre = s - plane.normal.dot(trajectory_offset_);
+    if (std::abs(off_centre) > options_.max_distance) return true;
     const double map_variance = Variance(flat);
     const double variance = plane.normal.dot(estimate.covariance * plane.normal) + map_variance;
-    if (s * s > options_.gate_chi2 * variance) return true;
+    if (off_centre * off_centre > options_.gate_chi2 * (variance + trajectory_offset_variance_)) {
+      return true;
+    }
     if (!InsideOutline(flat, x)) return true;
     if (flat.health.disabled || (found && found->plane_id != flat.plane.id)) {
       ambiguous = true;
@@ -317,7 +359,7 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
       ambiguous = true;
       return false;
     }
-    if (std::abs(s) > options_.stats_band) return true;
+    if (std::abs(s - plane.normal.dot(trajectory_offset_)) > options_.stats_band) return true;
     const double point_variance = plane.normal.dot(estimate.covariance * plane.normal);
     if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) {
       return true;
@@ -332,12 +374,87 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
     return true;
   });
   if (ambiguous || !found) return;
-  FlatPlane& flat = planes_[*found];
-  flat.distance_by_point[point_id] = found_distance;
-  flat.touched = true;
+  pending_.push_back({*found, point_id, found_distance});
+}
+
+std::pair<Eigen::Vector3d, double> PlaneAssociator::ConsensusOffset() const {
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  if (!options_.trajectory_consensus) return {zero, 0.0};
+  // The window's planes with enough points: their normal and their points' median distance.
+  std::map<std::size_t, std::vector<double>> by_plane;
+  for (const PendingRecord& record : pending_) {
+    by_plane[record.index].push_back(record.distance);
+  }
+  struct Witness {
+    Eigen::Vector3d normal;
+    RobustLocation location;
+  };
+  std::vector<Witness> witnesses;
+  for (auto& [index, distances] : by_plane) {
+    if (!planes_[index].facade) continue;
+    if (static_cast<int>(distances.size()) < options_.consensus_min_points) continue;
+    witnesses.push_back({planes_[index].plane.plane_in_map.normal, MedianAndError(distances)});
+  }
+  const double cos_peer = std::cos(options_.bias_peer_angle_deg * std::numbers::pi / 180.0);
+  auto tolerance = [&](const Witness& w) {
+    return std::max(options_.consensus_tolerance, 3.0 * w.location.standard_error);
+  };
+  // Hypotheses: the offset along each plane's normal that its own median asks for. A hypothesis
+  // is supported by the planes of about that normal whose median it explains, and opposed by
+  // those of that normal that agree with the trajectory as it is (one of them may be a wrong
+  // plane that pulled the trajectory onto itself); it must win. Planes that agree with neither
+  // (a moved plane seen with the rest) do not count.
+  Eigen::Vector3d best = zero;
+  double best_variance = 0;
+  int best_support = 0;
+  for (const Witness& hypothesis : witnesses) {
+    const double offset = hypothesis.location.median;
+    if (std::abs(offset) < options_.consensus_min_offset) continue;
+    const Eigen::Vector3d direction = hypothesis.normal * (offset > 0 ? 1.0 : -1.0);
+    std::vector<double> along;  // supporters' offsets along `direction`
+    int opposed = 0;
+    for (const Witness& w : witnesses) {
+      const double alignment = w.normal.dot(direction);
+      if (std::abs(alignment) < cos_peer) continue;
+      if (std::abs(w.location.median - alignment * std::abs(offset)) <= tolerance(w)) {
+        along.push_back(w.location.median / alignment);
+      } else if (std::abs(w.location.median) <= tolerance(w)) {
+        ++opposed;  // agrees with the trajectory as it is
+      }
+    }
+    const int support = static_cast<int>(along.size());
+    if (support < options_.consensus_min_planes || support <= opposed) continue;
+    if (support < best_support) continue;
+    const RobustLocation location = MedianAndError(along);
+    if (support == best_support && std::abs(location.median) >= best.norm()) continue;
+    if (std::abs(location.median) < options_.consensus_min_offset) continue;
+    best = direction * location.median;
+    best_support = support;
+    // The spread of the supporters' offsets, as the uncertainty of the centre.
+    best_variance = location.standard_error * location.standard_error;
+  }
+  return {best, best_variance};
+}
+
+void PlaneAssociator::FinishRecords() {
+  std::tie(trajectory_offset_, trajectory_offset_variance_) = ConsensusOffset();
+  if (!trajectory_offset_.isZero()) {
+    ++num_consensus_windows_;
+    spdlog::debug("plane consensus: window {} trajectory offset [{:+.3f}, {:+.3f}, {:+.3f}] m",
+                  windows_ + 1, trajectory_offset_.x(), trajectory_offset_.y(),
+                  trajectory_offset_.z());
+  }
+  for (const PendingRecord& record : pending_) {
+    FlatPlane& flat = planes_[record.index];
+    flat.distance_by_point[record.point_id] =
+        record.distance - flat.plane.plane_in_map.normal.dot(trajectory_offset_);
+    flat.touched = true;
+  }
+  pending_.clear();
 }
 
 int PlaneAssociator::UpdateHealth(int associations) {
+  if (!pending_.empty()) FinishRecords();
   ++windows_;
   total_associations_ += associations;
   for (int k = 0; k < 2; ++k) {
@@ -356,19 +473,12 @@ int PlaneAssociator::UpdateHealth(int associations) {
     values.clear();
     for (const auto& [id, s] : flat.distance_by_point) values.push_back(s);
     const std::size_t n = values.size();
-    auto mid = values.begin() + static_cast<std::ptrdiff_t>(n / 2);
-    std::nth_element(values.begin(), mid, values.end());
-    const double median = *mid;
-    for (double& value : values) value = std::abs(value - median);
-    std::nth_element(values.begin(), mid, values.end());
-    // Robust sigma from the MAD (Gaussian: 1.4826), standard error of a median ~1.2533 sigma /
-    // sqrt(n); 5 mm floor: plane maps and stereo are not better than that.
-    const double sigma = std::max(1.4826 * *mid, 0.005);
+    const RobustLocation location = MedianAndError(values);
     PlaneHealth& health = flat.health;
     const bool was_judged = health.points >= options_.bias_min_points;
     health.points = static_cast<int>(n);
-    health.median = median;
-    health.standard_error = 1.2533 * sigma / std::sqrt(static_cast<double>(n));
+    health.median = location.median;
+    health.standard_error = location.standard_error;
     if (!was_judged && health.points >= options_.bias_min_points) ++judged;
   }
   const double cos_peer = std::cos(options_.bias_peer_angle_deg * std::numbers::pi / 180.0);
@@ -488,6 +598,9 @@ void PlaneAssociator::ResetHealth() {
   }
   num_disabled_ = 0;
   num_reanchored_ = 0;
+  pending_.clear();
+  trajectory_offset_.setZero();
+  trajectory_offset_variance_ = 0;
 }
 
 void PlaneAssociator::FillGateStats(CreaseCheckStats& stats) const {

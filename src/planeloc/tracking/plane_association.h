@@ -115,6 +115,26 @@ struct PlaneAssociationOptions {
   // planes whose 2-5 cm "bias" was the trajectory's; 0.08 measured best, docs/experiments.md).
   double bias_common_allowance = 0.08;
   bool bias_common_hold = true;  // keep the largest b of the run (off: the latest window's)
+  // Planes.trajectoryConsensus: the trajectory's own offset from the map, estimated per window
+  // from the planes that agree on it. A trajectory that drifted along a direction no plane held
+  // (a side street after a turn; or one pulled there by a wrong plane) puts the points of every
+  // correct plane seen next at the same offset n.e. With this on, when at least
+  // consensus_min_planes planes of about the same normal (within bias_peer_angle_deg), each
+  // with consensus_min_points points in the window, agree within consensus_tolerance (or 3
+  // standard errors) on an offset of at least consensus_min_offset, and they outnumber the
+  // planes of that normal which disagree, the window's gate is centred at n.e instead of 0: their
+  // points are associated and the BA pulls the trajectory back onto the map. One plane never
+  // moves the centre (it could be the wrong one), and the planes' bias statistics record the
+  // distances beyond n.e, so the agreeing planes are not blamed for the trajectory's error.
+  // Only facades (kind "facade", or within 15 degrees of vertical by the map's "up") are
+  // witnesses: the road holds the height in every frame, and the horizontal planes of a street
+  // (road, sidewalks, kerbs 0.1-0.2 m apart) agree on false vertical offsets (small seed 7's
+  // clean map moved 0.9 m down in four steps when they could).
+  bool trajectory_consensus = false;
+  int consensus_min_planes = 2;
+  int consensus_min_points = 5;
+  double consensus_min_offset = 0.08;  // metres
+  double consensus_tolerance = 0.05;   // metres
   // Planes considered (with at least bias_min_points) before "most planes disabled" or "no
   // plane ever passes the gate" is reported as a likely wrong map.
   int warn_after_windows = 10;
@@ -189,8 +209,18 @@ class PlaneAssociator {
   std::optional<PlaneAssociation> Associate(const PointEstimate& estimate) const;
 
   // Records the signed distance of point `point_id` from the enabled planes around it (for the
-  // bias statistics; the latest value per point counts). Call for every window point.
+  // bias statistics; the latest value per point counts). Call for every window point, then
+  // FinishRecords before the window's Associate calls.
   void Record(int point_id, const PointEstimate& estimate);
+  // Closes the window's records: estimates the trajectory's offset from them
+  // (options.trajectory_consensus; zero otherwise or without a consensus), which centres the
+  // gate of the following Associate calls, and adds the records, less that offset, to the
+  // planes' statistics. UpdateHealth calls it when records are pending.
+  void FinishRecords();
+  // The offset of the last FinishRecords (map frame, metres): the estimated trajectory error e,
+  // points sit at n.e off a correct plane. Zero when no consensus.
+  const Eigen::Vector3d& trajectory_offset() const { return trajectory_offset_; }
+  int num_consensus_windows() const { return num_consensus_windows_; }
   // Drops the point's recorded distance (a point merged into another by map-point fusion: the
   // survivor stands for both, and counting the duplicate would double its weight).
   void ForgetPoint(int point_id);
@@ -253,6 +283,7 @@ class PlaneAssociator {
     double bias2 = 0;                         // m^2, squared median once enough points
     std::map<int, double> distance_by_point;  // point id -> latest signed distance
     bool touched = false;
+    bool facade = false;  // a witness of the trajectory's horizontal offset (consensus)
   };
   bool InsideOutline(const FlatPlane& flat, const Eigen::Vector3d& point) const;
   std::int64_t CellKey(const Eigen::Vector3d& point) const;
@@ -260,6 +291,8 @@ class PlaneAssociator {
   template <typename F>
   void ForCandidates(const Eigen::Vector3d& point_in_map, F f) const;
   double Variance(const FlatPlane& flat) const;
+  // The consensus offset of the records in pending_ (zero when none), and the variance of n.e.
+  std::pair<Eigen::Vector3d, double> ConsensusOffset() const;
   // Signed distance of x from the plane, or, for a disabled plane, from the surface its points
   // showed (the plane moved by their median).
   double SurfaceDistance(const FlatPlane& flat, const Eigen::Vector3d& x) const;
@@ -271,6 +304,15 @@ class PlaneAssociator {
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
   std::vector<std::size_t> unbounded_;  // planes without an outline: tested everywhere
   Eigen::Matrix3d trajectory_covariance_ = Eigen::Matrix3d::Zero();
+  struct PendingRecord {
+    std::size_t index;
+    int point_id;
+    double distance;
+  };
+  std::vector<PendingRecord> pending_;  // Record calls since the last FinishRecords
+  Eigen::Vector3d trajectory_offset_ = Eigen::Vector3d::Zero();
+  double trajectory_offset_variance_ = 0;  // m^2, of n.e for the planes that agreed
+  int num_consensus_windows_ = 0;
   int num_disabled_ = 0;
   int num_reanchored_ = 0;
   int windows_ = 0;

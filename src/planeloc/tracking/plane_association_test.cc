@@ -288,6 +288,7 @@ PlaneMap WallsAcross(const std::vector<double>& offsets) {
     const double x0 = 10.0 * static_cast<double>(k), z = 10.0 + offsets[k];
     map.planes.push_back(MakePlane(static_cast<int>(k), Plane(Eigen::Vector3d(0, 0, 1), -z),
                                    {{x0, 0, z}, {x0 + 9, 0, z}, {x0 + 9, 5, z}, {x0, 5, z}}, 45));
+    map.planes.back().kind = "facade";
   }
   return map;
 }
@@ -354,6 +355,69 @@ TEST(PlaneAssociationTest, PeersTellATrajectoryErrorFromAWrongPlane) {
   RecordWalls(lone, {0.3}, 4);
   EXPECT_FALSE(lone.health(0).disabled);
   EXPECT_GT(lone.PlaneSigma(0), std::hypot(sigma0, 0.25));
+}
+
+// Planes.trajectoryConsensus: walls facing z that all sit 0.25 m off the trajectory say that the
+// trajectory is 0.25 m off. The gate is then centred there (a point 0.25 m off a wall, beyond
+// the 0.15 m cap, is associated), and their statistics record only what the offset does not
+// explain (none is disabled, where the trajectory alone disables all three: the test above).
+TEST(PlaneAssociationTest, PlanesThatAgreeMoveTheGateToTheTrajectorysOffset) {
+  PlaneAssociationOptions options = BiasTestOptions();
+  options.trajectory_consensus = true;
+  PointEstimate on_wall_1;
+  on_wall_1.point_in_map = Eigen::Vector3d(14, 2, 10.25);
+  on_wall_1.covariance = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
+
+  PlaneAssociator agree(WallsAcross({0.0, 0.0, 0.0}), options);
+  RecordWalls(agree, {0.25, 0.25, 0.25}, 1);
+  EXPECT_NEAR(agree.trajectory_offset().z(), 0.25, 0.02);
+  EXPECT_NEAR(agree.trajectory_offset().head<2>().norm(), 0.0, 1e-12);
+  const auto association = agree.Associate(on_wall_1);
+  ASSERT_TRUE(association.has_value());
+  EXPECT_EQ(association->plane_id, 1);
+  EXPECT_NEAR(association->signed_distance, 0.25, 1e-9);  // from the map's plane: the BA's pull
+  RecordWalls(agree, {0.25, 0.25, 0.25}, 3);
+  EXPECT_EQ(agree.num_disabled(), 0);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(agree.health(k).median, 0.0, 0.02);
+
+  options.trajectory_consensus = false;
+  PlaneAssociator off(WallsAcross({0.0, 0.0, 0.0}), options);
+  RecordWalls(off, {0.25, 0.25, 0.25}, 1);
+  EXPECT_TRUE(off.trajectory_offset().isZero());
+  EXPECT_FALSE(off.Associate(on_wall_1).has_value());
+}
+
+// One plane never moves the gate (it may be the wrong one), nor two against two that agree with
+// the trajectory; two against one do (the one may be a wrong plane that pulled the trajectory
+// onto itself), and a plane that agrees with neither does not count.
+TEST(PlaneAssociationTest, ATrajectoryOffsetNeedsMorePlanesForItThanAgainstIt) {
+  PlaneAssociationOptions options = BiasTestOptions();
+  options.trajectory_consensus = true;
+  auto offset_after = [&](const std::vector<double>& surface) {
+    PlaneAssociator planes(WallsAcross(std::vector<double>(surface.size(), 0.0)), options);
+    RecordWalls(planes, surface, 1);
+    return planes.trajectory_offset().z();
+  };
+  EXPECT_EQ(offset_after({0.25}), 0.0);
+  EXPECT_EQ(offset_after({0.0, 0.25, 0.0}), 0.0);
+  EXPECT_EQ(offset_after({0.25, 0.25, 0.0, 0.0}), 0.0);
+  EXPECT_NEAR(offset_after({0.25, 0.0, 0.25}), 0.25, 0.02);
+  EXPECT_NEAR(offset_after({0.25, -0.2, 0.25}), 0.25, 0.02);
+  EXPECT_EQ(offset_after({0.05, 0.05, 0.05}), 0.0);  // below consensus_min_offset: the BA's job
+
+  // Horizontal planes are no witnesses (the road holds the height; sidewalks and kerbs agree on
+  // false offsets): the same three surfaces as ground planes, or of unknown kind in a map whose
+  // "up" is their normal, give no offset; of unknown kind in a map whose "up" is y, they do.
+  for (const auto& [kind, up] : {std::pair<std::string, Eigen::Vector3d>{"ground", {0, 0, 0}},
+                                 {"", Eigen::Vector3d(0, 0, 1)},
+                                 {"", Eigen::Vector3d(0, -1, 0)}}) {
+    PlaneMap map = WallsAcross({0.0, 0.0, 0.0});
+    for (MapPlane& plane : map.planes) plane.kind = kind;
+    map.frame.up = up;
+    PlaneAssociator planes(map, options);
+    RecordWalls(planes, {0.25, 0.25, 0.25}, 1);
+    EXPECT_NEAR(planes.trajectory_offset().z(), up.y() != 0 ? 0.25 : 0.0, 0.02) << kind;
+  }
 }
 
 // Planes.reanchorBiased: a wall 0.2 m off its points is moved onto them, by its bias measured
@@ -457,6 +521,9 @@ TEST(PlaneAssociationTest, OptionsCheck) {
   options = PlaneAssociationOptions();
   options.cell_size = -1;
   EXPECT_THROW(PlaneAssociator(PlaneMap(), options), OptionsError);
+  options = PlaneAssociationOptions();
+  options.consensus_min_planes = 1;  // one plane could be the wrong one
+  EXPECT_THROW(options.Check(), OptionsError);
 }
 
 }  // namespace

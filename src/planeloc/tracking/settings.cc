@@ -131,6 +131,13 @@ const std::vector<Key>& Keys() {
       D("Planes.biasCommonAllowance",
         [](O& o) -> double& { return o.planes.bias_common_allowance; }),
       B("Planes.biasCommonHold", [](O& o) -> bool& { return o.planes.bias_common_hold; }),
+      B("Planes.trajectoryConsensus", [](O& o) -> bool& { return o.planes.trajectory_consensus; }),
+      I("Planes.consensusMinPlanes", [](O& o) -> int& { return o.planes.consensus_min_planes; }),
+      I("Planes.consensusMinPoints", [](O& o) -> int& { return o.planes.consensus_min_points; }),
+      D("Planes.consensusMinOffset",
+        [](O& o) -> double& { return o.planes.consensus_min_offset; }),
+      D("Planes.consensusTolerance",
+        [](O& o) -> double& { return o.planes.consensus_tolerance; }),
       // Map registration and lock from a coarse start (docs/map-registration.md).
       I("MapLock.attemptEveryKeyframes",
         [](O& o) -> int& { return o.map_lock.attempt_every_keyframes; }),

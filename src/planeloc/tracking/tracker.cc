@@ -69,6 +69,11 @@ std::string FrameStats::ToJson() const {
   if (!map_lock.empty()) json += fmt::format(",\"map_lock\":\"{}\"", map_lock);
   if (registration) json += ",\"registration\":" + *registration;
   if (planes_disabled) json += fmt::format(",\"planes_disabled\":{}", *planes_disabled);
+  if (consensus_correction) {
+    json += fmt::format(",\"consensus_correction\":[{:.4f},{:.4f},{:.4f}]",
+                        consensus_correction->x(), consensus_correction->y(),
+                        consensus_correction->z());
+  }
   if (crease_check) json += ",\"crease_check\":" + crease_check->ToJson();
   return json + "}";
 }
@@ -481,14 +486,14 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   ++ba_counts_.keyframes;
   if (ba_worker_) {
     if (MappingIdle()) {
-      SubmitBa(kf_id, stats);
+      SubmitBa(kf_id, stats, &frame);
     } else {
       // The worker is busy: this keyframe's window is built once the running BA has been applied.
       // A keyframe still waiting is superseded (its neighbourhood is in the new window).
       if (deferred_ba_keyframe_) ++ba_counts_.superseded;
       deferred_ba_keyframe_ = kf_id;
     }
-  } else if (std::optional<BaJob> job = MakeBaJob(kf_id, stats)) {
+  } else if (std::optional<BaJob> job = MakeBaJob(kf_id, stats, &frame)) {
     SolveBaJob(camera_, options_.ba, *job);
     const BaApplyStats applied = ApplyWindowBa(map_, job->problem, job->result, camera_);
     if (job->result.usable) {
@@ -529,13 +534,34 @@ void Tracker::MaintainMap(int keyframe_id) {
       static_cast<int>(ForgetOldKeyframes(map_, maintenance, keep).size());
 }
 
-std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats) {
+std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Frame* current) {
   BaJob job;
   job.keyframe_id = keyframe_id;
   // Before the map lock the planes' frame is unknown: visual BA only.
   const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
   job.problem = BuildLocalWindow(map_, keyframe_id, options_, camera_,
                                  planes_active ? planes_.get() : nullptr);
+  if (planes_active && options_.planes.trajectory_consensus) {
+    // The window BA cannot pull the trajectory back by the offset itself: its fixed anchor
+    // keyframes carry the same error, and the visual terms hold the window rigidly to them. Two
+    // windows in a row agreeing on the offset move the whole map by it instead, as a lock does.
+    const Eigen::Vector3d offset = planes_->trajectory_offset();
+    const double tolerance = 2.0 * options_.planes.consensus_tolerance;
+    if (offset.isZero()) {
+      previous_consensus_.reset();
+    } else if (previous_consensus_ && (offset - *previous_consensus_).norm() <= tolerance) {
+      MapCorrection correction;
+      correction.map_from_world = Rigid3d(Eigen::Quaterniond::Identity(), -offset);
+      correction.first_keyframe_id = 0;
+      ApplyCorrection(correction, current, stats.frame, /*from_lock=*/false);
+      stats.consensus_correction = -offset;
+      ++consensus_corrections_;
+      previous_consensus_.reset();
+      job.problem = BuildLocalWindow(map_, keyframe_id, options_, camera_, planes_.get());
+    } else {
+      previous_consensus_ = offset;
+    }
+  }
   if (planes_) stats.planes_disabled = planes_->num_disabled();
   if (planes_ && stats.crease_check) planes_->FillGateStats(*stats.crease_check);
   if (job.problem.observations.empty()) {
@@ -547,8 +573,8 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats) {
   return job;
 }
 
-void Tracker::SubmitBa(int keyframe_id, FrameStats& stats) {
-  std::optional<BaJob> job = MakeBaJob(keyframe_id, stats);
+void Tracker::SubmitBa(int keyframe_id, FrameStats& stats, Frame* current) {
+  std::optional<BaJob> job = MakeBaJob(keyframe_id, stats, current);
   // MappingIdle() held: the worker accepts the job.
   if (!job) return;
   if (ba_worker_->Submit(std::move(*job))) {
@@ -567,7 +593,7 @@ void Tracker::SubmitDeferredBa(FrameStats& stats) {
     return;
   }
   const auto start = Clock::now();
-  SubmitBa(keyframe_id, stats);
+  SubmitBa(keyframe_id, stats, nullptr);
   stats.ms_ba += MillisecondsSince(start);
 }
 
@@ -636,7 +662,8 @@ void Tracker::ApplyLockResults(FrameStats& stats, Frame* current, bool wait) {
   if (correction) ApplyCorrection(*correction, current, stats.frame);
 }
 
-void Tracker::ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id) {
+void Tracker::ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id,
+                              bool from_lock) {
   const Rigid3d& map_from_world = correction.map_from_world;
   const Rigid3d world_from_map = map_from_world.Inverse();
   for (const auto& [kf_id, keyframe] : map_.keyframes()) {
@@ -656,6 +683,7 @@ void Tracker::ApplyCorrection(const MapCorrection& correction, Frame* current, i
   if (last_frame_) last_frame_->cam_from_world = last_frame_->cam_from_world * world_from_map;
   if (current) current->cam_from_world = current->cam_from_world * world_from_map;
   ++correction_epoch_;
+  if (!from_lock) return;
   if (planes_) {
     // Until the window BA has pulled the trajectory onto the planes, a plane's points may sit off
     // it by the lock's own error: that is no evidence against the plane.

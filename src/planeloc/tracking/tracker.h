@@ -67,6 +67,9 @@ struct FrameStats {
   std::optional<std::string> registration;
   // Plane mode, keyframes: planes of the map disabled so far (their points sit off them).
   std::optional<int> planes_disabled;
+  // Plane mode: the map moved by this (metres, map frame) because the planes agreed that the
+  // trajectory sat off them (Planes.trajectoryConsensus).
+  std::optional<Eigen::Vector3d> consensus_correction;
   // Plane mode, keyframes after the map lock: the LSD check of the map's creases (crease_check.h).
   std::optional<CreaseCheckStats> crease_check;
   // One JSON object on one line (the --stats format).
@@ -142,6 +145,8 @@ class Tracker {
   MapLock map_lock() const { return locker_ ? locker_->state() : MapLock::kLocked; }
   const OrbExtractor& extractor() const { return extractor_; }
   const BaCounts& ba_counts() const { return ba_counts_; }
+  // Map moves by the planes' consensus on the trajectory's offset (Planes.trajectoryConsensus).
+  int consensus_corrections() const { return consensus_corrections_; }
   const TrackerOptions& options() const { return options_; }
 
  private:
@@ -161,9 +166,12 @@ class Tracker {
   void MaintainMap(int keyframe_id);
   // The keyframe's BA window with its snapshot; std::nullopt (counted as empty) without
   // observations.
-  std::optional<BaJob> MakeBaJob(int keyframe_id, FrameStats& stats);
+  // With Planes.trajectoryConsensus, a window whose planes agree (in this and the previous
+  // window) that the trajectory sits off the map first moves the map by that offset
+  // (ApplyCorrection; `current` moves with it) and is then built again.
+  std::optional<BaJob> MakeBaJob(int keyframe_id, FrameStats& stats, Frame* current);
   // Builds the keyframe's BA window and hands it to the worker (threaded mode).
-  void SubmitBa(int keyframe_id, FrameStats& stats);
+  void SubmitBa(int keyframe_id, FrameStats& stats, Frame* current);
   // Submits the deferred keyframe's BA once the worker is idle.
   void SubmitDeferredBa(FrameStats& stats);
   void ApplyBaResults(FrameStats& stats, bool wait);
@@ -174,7 +182,11 @@ class Tracker {
   // correction came since), and reports the next one in this frame's stats.
   void CollectCreaseChecks(bool wait);
   void ReportCreaseCheck(FrameStats& stats);
-  void ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id);
+  // A lock or re-registration (`from_lock`) also restarts the planes' bias statistics and is
+  // logged as a lock event; a consensus correction keeps them (they were recorded beyond the
+  // offset the planes agreed on).
+  void ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id,
+                       bool from_lock = true);
   Rigid3d PredictPose() const;
   double CloseDepth() const { return options_.close_depth_baselines * camera_.baseline; }
 
@@ -188,6 +200,10 @@ class Tracker {
   std::vector<LockEvent> lock_events_;
   // Corrections applied so far; a BA result computed before the latest one is dropped.
   int correction_epoch_ = 0;
+  // The trajectory offset the planes agreed on in the previous window (Planes.
+  // trajectoryConsensus), and the corrections it caused.
+  std::optional<Eigen::Vector3d> previous_consensus_;
+  int consensus_corrections_ = 0;
   // Keyframe id from which plane bias statistics stop allowing for the last lock's error; -1: none.
   int settle_until_keyframe_id_ = -1;
   // Keyframe whose BA waits for the worker (threaded mode).
