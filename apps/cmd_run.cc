@@ -160,8 +160,10 @@ int Run(const RunArgs& args) {
   if (options.planes_path) {
     spdlog::info(
         "plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average, {} "
-        "planes disabled (biased)",
-        summary.planes, summary.mean_ba_plane_residuals, summary.planes_disabled);
+        "planes disabled (biased), {} map moves by the planes' consensus on the trajectory's "
+        "offset",
+        summary.planes, summary.mean_ba_plane_residuals, summary.planes_disabled,
+        summary.consensus_corrections);
     if (summary.crease_keyframes > 0) {
       spdlog::info(
           "crease check (LSD): {} keyframes, {:.1f} visible / {:.1f} confirmed creases per "

@@ -311,14 +311,10 @@ std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& 
     // points near the kerb and lift the camera).
     if (flat.health.disabled && !options_.disabled_planes_block) return true;
     const double s = SurfaceDistance(flat, x);
-    // The gate is centred where a correct plane's points sit given the trajectory's offset.
-    const double off_centre = s - plane.normal.dot(trajectory_offset_);
-    if (std::abs(off_centre) > options_.max_distance) return true;
+    if (std::abs(s) > options_.max_distance) return true;
     const double map_variance = Variance(flat);
     const double variance = plane.normal.dot(estimate.covariance * plane.normal) + map_variance;
-    if (off_centre * off_centre > options_.gate_chi2 * (variance + trajectory_offset_variance_)) {
-      return true;
-    }
+    if (s * s > options_.gate_chi2 * variance) return true;
     if (!InsideOutline(flat, x)) return true;
     if (flat.health.disabled || (found && found->plane_id != flat.plane.id)) {
       ambiguous = true;
@@ -359,7 +355,7 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
       ambiguous = true;
       return false;
     }
-    if (std::abs(s - plane.normal.dot(trajectory_offset_)) > options_.stats_band) return true;
+    if (std::abs(s) > options_.stats_band) return true;
     const double point_variance = plane.normal.dot(estimate.covariance * plane.normal);
     if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) {
       return true;
@@ -377,15 +373,15 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
   pending_.push_back({*found, point_id, found_distance});
 }
 
-std::pair<Eigen::Vector3d, double> PlaneAssociator::ConsensusOffset() const {
-  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
-  if (!options_.trajectory_consensus) return {zero, 0.0};
+PlaneAssociator::Consensus PlaneAssociator::ConsensusOffset() const {
+  if (!options_.trajectory_consensus) return {};
   // The window's planes with enough points: their normal and their points' median distance.
   std::map<std::size_t, std::vector<double>> by_plane;
   for (const PendingRecord& record : pending_) {
     by_plane[record.index].push_back(record.distance);
   }
   struct Witness {
+    std::size_t index;
     Eigen::Vector3d normal;
     RobustLocation location;
   };
@@ -393,7 +389,8 @@ std::pair<Eigen::Vector3d, double> PlaneAssociator::ConsensusOffset() const {
   for (auto& [index, distances] : by_plane) {
     if (!planes_[index].facade) continue;
     if (static_cast<int>(distances.size()) < options_.consensus_min_points) continue;
-    witnesses.push_back({planes_[index].plane.plane_in_map.normal, MedianAndError(distances)});
+    witnesses.push_back(
+        {index, planes_[index].plane.plane_in_map.normal, MedianAndError(distances)});
   }
   const double cos_peer = std::cos(options_.bias_peer_angle_deg * std::numbers::pi / 180.0);
   auto tolerance = [&](const Witness& w) {
@@ -404,50 +401,49 @@ std::pair<Eigen::Vector3d, double> PlaneAssociator::ConsensusOffset() const {
   // those of that normal that agree with the trajectory as it is (one of them may be a wrong
   // plane that pulled the trajectory onto itself); it must win. Planes that agree with neither
   // (a moved plane seen with the rest) do not count.
-  Eigen::Vector3d best = zero;
-  double best_variance = 0;
-  int best_support = 0;
+  Consensus best;
   for (const Witness& hypothesis : witnesses) {
     const double offset = hypothesis.location.median;
     if (std::abs(offset) < options_.consensus_min_offset) continue;
     const Eigen::Vector3d direction = hypothesis.normal * (offset > 0 ? 1.0 : -1.0);
     std::vector<double> along;  // supporters' offsets along `direction`
+    std::vector<std::size_t> supporters;
     int opposed = 0;
     for (const Witness& w : witnesses) {
       const double alignment = w.normal.dot(direction);
       if (std::abs(alignment) < cos_peer) continue;
       if (std::abs(w.location.median - alignment * std::abs(offset)) <= tolerance(w)) {
         along.push_back(w.location.median / alignment);
+        supporters.push_back(w.index);
       } else if (std::abs(w.location.median) <= tolerance(w)) {
         ++opposed;  // agrees with the trajectory as it is
       }
     }
     const int support = static_cast<int>(along.size());
     if (support < options_.consensus_min_planes || support <= opposed) continue;
+    const int best_support = static_cast<int>(best.supporters.size());
     if (support < best_support) continue;
     const RobustLocation location = MedianAndError(along);
-    if (support == best_support && std::abs(location.median) >= best.norm()) continue;
+    if (support == best_support && std::abs(location.median) >= best.offset.norm()) continue;
     if (std::abs(location.median) < options_.consensus_min_offset) continue;
-    best = direction * location.median;
-    best_support = support;
-    // The spread of the supporters' offsets, as the uncertainty of the centre.
-    best_variance = location.standard_error * location.standard_error;
+    best.offset = direction * location.median;
+    best.supporters = std::move(supporters);
   }
-  return {best, best_variance};
+  return best;
 }
 
 void PlaneAssociator::FinishRecords() {
-  std::tie(trajectory_offset_, trajectory_offset_variance_) = ConsensusOffset();
-  if (!trajectory_offset_.isZero()) {
-    ++num_consensus_windows_;
-    spdlog::debug("plane consensus: window {} trajectory offset [{:+.3f}, {:+.3f}, {:+.3f}] m",
-                  windows_ + 1, trajectory_offset_.x(), trajectory_offset_.y(),
-                  trajectory_offset_.z());
+  consensus_ = ConsensusOffset();
+  if (!consensus_.offset.isZero()) {
+    spdlog::debug(
+        "plane consensus: window {} trajectory offset [{:+.3f}, {:+.3f}, {:+.3f}] m from {} "
+        "planes",
+        windows_ + 1, consensus_.offset.x(), consensus_.offset.y(), consensus_.offset.z(),
+        consensus_.supporters.size());
   }
   for (const PendingRecord& record : pending_) {
     FlatPlane& flat = planes_[record.index];
-    flat.distance_by_point[record.point_id] =
-        record.distance - flat.plane.plane_in_map.normal.dot(trajectory_offset_);
+    flat.distance_by_point[record.point_id] = record.distance;
     flat.touched = true;
   }
   pending_.clear();
@@ -531,7 +527,11 @@ int PlaneAssociator::UpdateHealth(int associations) {
         "bias {:+.3f} common {:.3f}",
         windows_, flat.plane.id, health.points, health.median, health.standard_error, peers, bias,
         health.common_bias);
-    const bool judgeable = !options_.bias_peers || peers > 0;
+    // The window's planes agree that the trajectory is off by this plane's offset: the
+    // trajectory's error, not the plane's, until the tracker has corrected it or not.
+    const bool explained = std::find(consensus_.supporters.begin(), consensus_.supporters.end(),
+                                     index) != consensus_.supporters.end();
+    const bool judgeable = (!options_.bias_peers || peers > 0) && !explained;
     if (judgeable && health.points >= options_.bias_min_points &&
         std::abs(bias) > options_.bias_min &&
         std::abs(bias) > options_.bias_significance * bias_sigma) {
@@ -599,8 +599,7 @@ void PlaneAssociator::ResetHealth() {
   num_disabled_ = 0;
   num_reanchored_ = 0;
   pending_.clear();
-  trajectory_offset_.setZero();
-  trajectory_offset_variance_ = 0;
+  consensus_ = Consensus{};
 }
 
 void PlaneAssociator::FillGateStats(CreaseCheckStats& stats) const {

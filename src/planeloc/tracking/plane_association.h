@@ -118,14 +118,14 @@ struct PlaneAssociationOptions {
   // Planes.trajectoryConsensus: the trajectory's own offset from the map, estimated per window
   // from the planes that agree on it. A trajectory that drifted along a direction no plane held
   // (a side street after a turn; or one pulled there by a wrong plane) puts the points of every
-  // correct plane seen next at the same offset n.e. With this on, when at least
-  // consensus_min_planes planes of about the same normal (within bias_peer_angle_deg), each
-  // with consensus_min_points points in the window, agree within consensus_tolerance (or 3
-  // standard errors) on an offset of at least consensus_min_offset, and they outnumber the
-  // planes of that normal which disagree, the window's gate is centred at n.e instead of 0: their
-  // points are associated and the BA pulls the trajectory back onto the map. One plane never
-  // moves the centre (it could be the wrong one), and the planes' bias statistics record the
-  // distances beyond n.e, so the agreeing planes are not blamed for the trajectory's error.
+  // correct plane seen next at the same offset n.e, beyond the gate, so the window BA never
+  // pulls it back. With this on, when at least consensus_min_planes planes of about the same
+  // normal (within bias_peer_angle_deg), each with consensus_min_points points in the window,
+  // agree within consensus_tolerance (or 3 standard errors) on an offset of at least
+  // consensus_min_offset, and they outnumber the planes of that normal that agree with the
+  // trajectory as it is, the window reports the offset (trajectory_offset()); its supporters
+  // are not disabled in that window; and the tracker moves its map by it when two windows in a
+  // row agree (Tracker::MakeBaJob). One plane never makes an offset (it could be the wrong one).
   // Only facades (kind "facade", or within 15 degrees of vertical by the map's "up") are
   // witnesses: the road holds the height in every frame, and the horizontal planes of a street
   // (road, sidewalks, kerbs 0.1-0.2 m apart) agree on false vertical offsets (small seed 7's
@@ -213,14 +213,12 @@ class PlaneAssociator {
   // FinishRecords before the window's Associate calls.
   void Record(int point_id, const PointEstimate& estimate);
   // Closes the window's records: estimates the trajectory's offset from them
-  // (options.trajectory_consensus; zero otherwise or without a consensus), which centres the
-  // gate of the following Associate calls, and adds the records, less that offset, to the
+  // (options.trajectory_consensus; zero otherwise or without a consensus) and adds them to the
   // planes' statistics. UpdateHealth calls it when records are pending.
   void FinishRecords();
   // The offset of the last FinishRecords (map frame, metres): the estimated trajectory error e,
   // points sit at n.e off a correct plane. Zero when no consensus.
-  const Eigen::Vector3d& trajectory_offset() const { return trajectory_offset_; }
-  int num_consensus_windows() const { return num_consensus_windows_; }
+  const Eigen::Vector3d& trajectory_offset() const { return consensus_.offset; }
   // Drops the point's recorded distance (a point merged into another by map-point fusion: the
   // survivor stands for both, and counting the duplicate would double its weight).
   void ForgetPoint(int point_id);
@@ -291,8 +289,9 @@ class PlaneAssociator {
   template <typename F>
   void ForCandidates(const Eigen::Vector3d& point_in_map, F f) const;
   double Variance(const FlatPlane& flat) const;
-  // The consensus offset of the records in pending_ (zero when none), and the variance of n.e.
-  std::pair<Eigen::Vector3d, double> ConsensusOffset() const;
+  // The consensus offset of the records in pending_ (zero when none).
+  struct Consensus;
+  Consensus ConsensusOffset() const;
   // Signed distance of x from the plane, or, for a disabled plane, from the surface its points
   // showed (the plane moved by their median).
   double SurfaceDistance(const FlatPlane& flat, const Eigen::Vector3d& x) const;
@@ -310,9 +309,11 @@ class PlaneAssociator {
     double distance;
   };
   std::vector<PendingRecord> pending_;  // Record calls since the last FinishRecords
-  Eigen::Vector3d trajectory_offset_ = Eigen::Vector3d::Zero();
-  double trajectory_offset_variance_ = 0;  // m^2, of n.e for the planes that agreed
-  int num_consensus_windows_ = 0;
+  struct Consensus {
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+    std::vector<std::size_t> supporters;  // indices of the planes that agreed on it
+  };
+  Consensus consensus_;  // of the last FinishRecords
   int num_disabled_ = 0;
   int num_reanchored_ = 0;
   int windows_ = 0;

@@ -400,6 +400,7 @@ RunSummary RunSequence(const RunOptions& run) {
     tracked_points += s.tracked_points;
     if (s.ba_median_reprojection_px) ba_medians.push_back(*s.ba_median_reprojection_px);
     if (s.planes_disabled) summary.planes_disabled = *s.planes_disabled;
+    if (s.consensus_correction) ++summary.consensus_corrections;
     if (s.crease_check) add_crease_check(*s.crease_check);
     if (s.ba_plane_residuals) {
       plane_residuals += *s.ba_plane_residuals;
@@ -436,11 +437,11 @@ std::string RunSummary::ToJson() const {
   return fmt::format(
       "{{\"frames\":{},\"tracked\":{},\"lost\":{},\"skipped\":{},\"keyframes\":{},"
       "\"mean_tracked_points\":{:.1f},\"median_ba_reprojection_px\":{:.4f},\"planes\":{},"
-      "\"mean_ba_plane_residuals\":{:.1f},\"planes_disabled\":{},\"seconds\":{:.3f},"
-      "\"final_map_lock\":\"{}\",\"lock_events\":{},\"local_ba\":{}}}",
+      "\"mean_ba_plane_residuals\":{:.1f},\"planes_disabled\":{},\"consensus_corrections\":{},"
+      "\"seconds\":{:.3f},\"final_map_lock\":\"{}\",\"lock_events\":{},\"local_ba\":{}}}",
       frames, tracked, lost, skipped, keyframes, mean_tracked_points, median_ba_reprojection_px,
-      planes, mean_ba_plane_residuals, planes_disabled, seconds, final_map_lock, lock_events.size(),
-      ba.ToJson());
+      planes, mean_ba_plane_residuals, planes_disabled, consensus_corrections, seconds,
+      final_map_lock, lock_events.size(), ba.ToJson());
 }
 
 }  // namespace planeloc

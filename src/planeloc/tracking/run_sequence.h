@@ -65,6 +65,7 @@ struct RunSummary {
   int planes = 0;                        // planes in the plane map (0: visual only)
   double mean_ba_plane_residuals = 0;    // point-to-plane residuals a local BA, on average
   int planes_disabled = 0;               // planes disabled during the run (biased, see tracking)
+  int consensus_corrections = 0;         // map moves by the planes' consensus (trajectoryConsensus)
   double seconds = 0;                    // wall time of the tracking loop
   BaCounts ba;                           // what became of every keyframe's local BA
   std::vector<FrameStats> stats;         // per frame
