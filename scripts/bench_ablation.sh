@@ -15,6 +15,8 @@
 #                  so only Planes.maxDistance decides
 #   commonbias     Planes.biasCommonMode 1 with Planes.biasCommonAllowance 0.08 (a plane's bias
 #                  shared by its points, held for the run)
+#   noconsensus    Planes.trajectoryConsensus 0 (facades that agree on the trajectory's offset
+#                  no longer move the map back)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 preset=small
@@ -44,6 +46,7 @@ for variant in $variants; do
     oldgate) printf '%%YAML:1.0\nPlanes.gateChi2: 1e9\n' >"$cfg" ;;
     commonbias)
       printf '%%YAML:1.0\nPlanes.biasCommonMode: 1\nPlanes.biasCommonAllowance: 0.08\n' >"$cfg" ;;
+    noconsensus) printf '%%YAML:1.0\nPlanes.trajectoryConsensus: 0\n' >"$cfg" ;;
     *) echo "bench_ablation.sh: unknown variant '$variant' (see --help)" >&2; exit 2 ;;
   esac
   echo "## $variant"

@@ -126,6 +126,12 @@ RegistrationPrior MapLocker::CurrentPrior(const Eigen::Vector3d& camera_in_world
       std::hypot(sigma_yaw_, yaw_drift), options_.registration.sigma_tilt_deg * kDegree);
 }
 
+bool MapLocker::Idle() {
+  if (inline_finished_) return false;
+  std::lock_guard lock(mutex_);
+  return !pending_ && !running_ && !finished_;
+}
+
 void MapLocker::OnKeyframe(const SparseMap& map, int keyframe_id, const StereoCamera& camera) {
   if (keyframe_id < segment_first_keyframe_) return;
   const bool maintenance = state_ == MapLock::kLocked;

@@ -118,6 +118,9 @@ class MapLocker {
   // Plane residuals in the BA: only once the map frame is known.
   bool PlanesActive() const { return state_ != MapLock::kSearching; }
 
+  // No attempt pending, running or finished and not yet taken: a correction of the map applied
+  // now (Planes.trajectoryConsensus) cannot be undone by one computed before it.
+  bool Idle();
   // After keyframe `keyframe_id` was inserted: starts an attempt when one is due.
   void OnKeyframe(const SparseMap& map, int keyframe_id, const StereoCamera& camera);
   // A finished attempt (in line: the one OnKeyframe just ran). `wait` blocks for a running one.

@@ -165,10 +165,10 @@ PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationO
     flat.plane = plane;
     std::tie(flat.u, flat.v) = plane.plane_in_map.InPlaneBasis();
     const Eigen::Vector3d& up = planes.frame.up;
-    flat.facade = plane.kind == "facade" ||
-                  (plane.kind.empty() && !up.isZero() &&
-                   std::abs(plane.plane_in_map.normal.dot(up.normalized())) <
-                       std::sin(15.0 * std::numbers::pi / 180.0));
+    flat.facade =
+        plane.kind == "facade" || (plane.kind.empty() && !up.isZero() &&
+                                   std::abs(plane.plane_in_map.normal.dot(up.normalized())) <
+                                       std::sin(15.0 * std::numbers::pi / 180.0));
     const std::size_t index = planes_.size();
     index_by_id_[plane.id] = index;
     if (plane.polygon.size() < 3) {
@@ -435,11 +435,14 @@ PlaneAssociator::Consensus PlaneAssociator::ConsensusOffset() const {
 void PlaneAssociator::FinishRecords() {
   consensus_ = ConsensusOffset();
   if (!consensus_.offset.isZero()) {
+    std::string ids;
+    for (const std::size_t index : consensus_.supporters) {
+      ids += (ids.empty() ? "" : ", ") + std::to_string(planes_[index].plane.id);
+    }
     spdlog::debug(
-        "plane consensus: window {} trajectory offset [{:+.3f}, {:+.3f}, {:+.3f}] m from {} "
-        "planes",
-        windows_ + 1, consensus_.offset.x(), consensus_.offset.y(), consensus_.offset.z(),
-        consensus_.supporters.size());
+        "plane consensus: window {} trajectory offset [{:+.3f}, {:+.3f}, {:+.3f}] m from planes "
+        "{}",
+        windows_ + 1, consensus_.offset.x(), consensus_.offset.y(), consensus_.offset.z(), ids);
   }
   for (const PendingRecord& record : pending_) {
     FlatPlane& flat = planes_[record.index];

@@ -299,6 +299,7 @@ PlaneAssociationOptions BiasTestOptions() {
   options.bias_min = 0.06;
   options.bias_significance = 4.0;
   options.bias_min_points = 40;
+  options.trajectory_consensus = false;  // the bias test alone; the consensus has its own tests
   return options;
 }
 
@@ -384,6 +385,7 @@ TEST(PlaneAssociationTest, PlanesThatAgreeReportTheTrajectorysOffset) {
 TEST(PlaneAssociationTest, ATrajectoryOffsetNeedsMorePlanesForItThanAgainstIt) {
   PlaneAssociationOptions options = BiasTestOptions();
   options.trajectory_consensus = true;
+  options.consensus_min_planes = 2;
   auto offset_after = [&](const std::vector<double>& surface) {
     PlaneAssociator planes(WallsAcross(std::vector<double>(surface.size(), 0.0)), options);
     RecordWalls(planes, surface, 1);
@@ -395,6 +397,12 @@ TEST(PlaneAssociationTest, ATrajectoryOffsetNeedsMorePlanesForItThanAgainstIt) {
   EXPECT_NEAR(offset_after({0.25, 0.0, 0.25}), 0.25, 0.02);
   EXPECT_NEAR(offset_after({0.25, -0.2, 0.25}), 0.25, 0.02);
   EXPECT_EQ(offset_after({0.05, 0.05, 0.05}), 0.0);  // below consensus_min_offset: the BA's job
+  // The default asks for three planes, and more than agree with the trajectory as it is.
+  options.consensus_min_planes = PlaneAssociationOptions().consensus_min_planes;
+  ASSERT_EQ(options.consensus_min_planes, 3);
+  EXPECT_EQ(offset_after({0.25, 0.0, 0.25}), 0.0);
+  EXPECT_NEAR(offset_after({0.25, 0.25, 0.25, 0.0, 0.0}), 0.25, 0.02);
+  EXPECT_EQ(offset_after({0.25, 0.25, 0.25, 0.0, 0.0, 0.0}), 0.0);
 
   // Horizontal planes are no witnesses (the road holds the height; sidewalks and kerbs agree on
   // false offsets): the same three surfaces as ground planes, or of unknown kind in a map whose

@@ -134,10 +134,8 @@ const std::vector<Key>& Keys() {
       B("Planes.trajectoryConsensus", [](O& o) -> bool& { return o.planes.trajectory_consensus; }),
       I("Planes.consensusMinPlanes", [](O& o) -> int& { return o.planes.consensus_min_planes; }),
       I("Planes.consensusMinPoints", [](O& o) -> int& { return o.planes.consensus_min_points; }),
-      D("Planes.consensusMinOffset",
-        [](O& o) -> double& { return o.planes.consensus_min_offset; }),
-      D("Planes.consensusTolerance",
-        [](O& o) -> double& { return o.planes.consensus_tolerance; }),
+      D("Planes.consensusMinOffset", [](O& o) -> double& { return o.planes.consensus_min_offset; }),
+      D("Planes.consensusTolerance", [](O& o) -> double& { return o.planes.consensus_tolerance; }),
       // Map registration and lock from a coarse start (docs/map-registration.md).
       I("MapLock.attemptEveryKeyframes",
         [](O& o) -> int& { return o.map_lock.attempt_every_keyframes; }),

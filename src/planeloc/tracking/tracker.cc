@@ -70,9 +70,9 @@ std::string FrameStats::ToJson() const {
   if (registration) json += ",\"registration\":" + *registration;
   if (planes_disabled) json += fmt::format(",\"planes_disabled\":{}", *planes_disabled);
   if (consensus_correction) {
-    json += fmt::format(",\"consensus_correction\":[{:.4f},{:.4f},{:.4f}]",
-                        consensus_correction->x(), consensus_correction->y(),
-                        consensus_correction->z());
+    json +=
+        fmt::format(",\"consensus_correction\":[{:.4f},{:.4f},{:.4f}]", consensus_correction->x(),
+                    consensus_correction->y(), consensus_correction->z());
   }
   if (crease_check) json += ",\"crease_check\":" + crease_check->ToJson();
   return json + "}";
@@ -544,12 +544,14 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
   if (planes_active && options_.planes.trajectory_consensus) {
     // The window BA cannot pull the trajectory back by the offset itself: its fixed anchor
     // keyframes carry the same error, and the visual terms hold the window rigidly to them. Two
-    // windows in a row agreeing on the offset move the whole map by it instead, as a lock does.
+    // windows in a row agreeing on the offset move the whole map by it instead, as a lock does
+    // (not while a registration of the map lock runs: its correction would undo this one).
     const Eigen::Vector3d offset = planes_->trajectory_offset();
     const double tolerance = 2.0 * options_.planes.consensus_tolerance;
     if (offset.isZero()) {
       previous_consensus_.reset();
-    } else if (previous_consensus_ && (offset - *previous_consensus_).norm() <= tolerance) {
+    } else if (previous_consensus_ && (offset - *previous_consensus_).norm() <= tolerance &&
+               (!locker_ || locker_->Idle())) {
       MapCorrection correction;
       correction.map_from_world = Rigid3d(Eigen::Quaterniond::Identity(), -offset);
       correction.first_keyframe_id = 0;
