@@ -541,7 +541,8 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
   const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
   job.problem = BuildLocalWindow(map_, keyframe_id, options_, camera_,
                                  planes_active ? planes_.get() : nullptr);
-  if (planes_active && options_.planes.trajectory_consensus) {
+  // With lambda = 1 the planes do not act on the trajectory (the ablation's "no plane term").
+  if (planes_active && options_.planes.trajectory_consensus && options_.ba.lambda < 1.0) {
     // The window BA cannot pull the trajectory back by the offset itself: its fixed anchor
     // keyframes carry the same error, and the visual terms hold the window rigidly to them. Two
     // windows in a row agreeing on the offset move the whole map by it instead, as a lock does
