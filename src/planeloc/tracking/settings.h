@@ -89,9 +89,13 @@ struct TrackerOptions {
   // the start of the frame (0 = no bound). When frames come faster than the BA solves (an offline
   // run, the next frame's features extracted in parallel) the results otherwise land later and
   // later, and the frames in between track against the unadjusted map: kitti07-like seed 1, ATE
-  // 0.096-0.138 m unbounded vs 0.064-0.077 m with 3 (deterministic 0.075 m), same fps. At 10 Hz
+  // 0.096-0.138 m unbounded vs 0.064-0.077 m with 3 (deterministic 0.075 m), same fps. With 1 a
+  // BA always lands at the frame after its keyframe, so the run no longer depends on timing: on
+  // kitti07-like seeds 1, 2 and 3 (2 runs each) 1 gave 0.077 / 0.109 / 0.060 m, every run the
+  // same, against deterministic 0.075 / 0.107 / 0.058 m, and 3 gave 0.066-0.072 / 0.070-0.162 /
+  // 0.075-0.084 m, at 3 % more fps (44.0 vs 43.0 on seeds 1-2; docs/bench-tracking.md). At 10 Hz
   // in real time a BA lands within a frame or two and the bound never waits.
-  int ba_max_lag_frames = 3;
+  int ba_max_lag_frames = 1;
 
   // With a plane map (`planeloc run --planes`): which map points lie on a LiDAR plane. The BA then
   // weighs reprojection by ba.lambda and point-to-plane by 1 - ba.lambda (LocalBA.lambda, default
