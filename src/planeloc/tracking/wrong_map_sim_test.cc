@@ -85,14 +85,17 @@ TEST(WrongMapSimTest, MovedPlanesAreDisabledAndTheAteStaysNearTheCleanMaps) {
             << with_clean.planes_disabled << ", moved " << with_moved.planes_disabled << " of "
             << moved.size() << " moved\n";
   EXPECT_EQ(with_moved.tracked, with_moved.frames);
-  // Measured with the defaults of this commit (same numbers from `planeloc run --deterministic`
-  // on `planeloc sim --preset tiny --seed 1`, map build --voxel 0.10, map planes): ATE visual
+  // Measured at 732d692's defaults (same numbers from `planeloc run --deterministic` on
+  // `planeloc sim --preset tiny --seed 1`, map build --voxel 0.10, map planes): ATE visual
   // 0.0842 m, clean map 0.0454 m, moved planes 0.0646 m; the two moved planes disabled (plane 0
-  // at -0.180 m, plane 1 at -0.154 m), one plane (+0.106 m) with the clean map. At 88c0d72
-  // (fixed 15 cm band, no bias statistics) the same moved map gave 0.234 m, the clean 0.0416 m.
+  // at -0.180 m, plane 1 at -0.154 m), one plane (+0.106 m) with the clean map. At 3499e9c
+  // (Planes.trajectoryConsensus on, `planeloc_tracking_test --gtest_filter=WrongMap*`): visual
+  // 0.0842 m, clean 0.0443 m, moved 0.0480 m; 2 planes disabled with the moved map, 1 with the
+  // clean one. At 88c0d72 (fixed 15 cm band, no bias statistics) the same moved map gave
+  // 0.234 m, the clean 0.0416 m.
   EXPECT_GE(with_moved.planes_disabled, 2);
   EXPECT_LT(ate_moved, ate_visual);
-  EXPECT_LT(ate_moved, 0.10);
+  EXPECT_LT(ate_moved, 0.09);
 }
 
 }  // namespace
