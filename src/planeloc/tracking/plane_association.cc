@@ -13,31 +13,13 @@
 #include <utility>
 #include <vector>
 
+#include "planeloc/tracking/trajectory_consensus.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
 namespace {
 
 constexpr std::int64_t kAxisCells = 1 << 20;  // per axis, centred on 0: +-5 000 km at 5 m
-
-struct RobustLocation {
-  double median = 0;
-  double standard_error = 0;  // of the median
-};
-
-// Median of `values` (reordered) and its standard error from the MAD (Gaussian: sigma = 1.4826
-// MAD, standard error of a median ~1.2533 sigma / sqrt(n)), with a 5 mm floor on sigma: plane
-// maps and stereo are not better than that.
-RobustLocation MedianAndError(std::vector<double>& values) {
-  const std::size_t n = values.size();
-  auto mid = values.begin() + static_cast<std::ptrdiff_t>(n / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  const double median = *mid;
-  for (double& value : values) value = std::abs(value - median);
-  std::nth_element(values.begin(), mid, values.end());
-  const double sigma = std::max(1.4826 * *mid, 0.005);
-  return {median, 1.2533 * sigma / std::sqrt(static_cast<double>(n))};
-}
 
 }  // namespace
 
@@ -373,63 +355,26 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
   pending_.push_back({*found, point_id, found_distance});
 }
 
-PlaneAssociator::Consensus PlaneAssociator::ConsensusOffset() const {
+TrajectoryConsensus PlaneAssociator::ConsensusOffset() const {
   if (!options_.trajectory_consensus) return {};
-  // The window's planes with enough points: their normal and their points' median distance.
-  std::map<std::size_t, std::vector<double>> by_plane;
+  // The window's facades with their points' distances (horizontal planes are no witnesses).
+  std::map<std::size_t, ConsensusWitness> by_plane;
   for (const PendingRecord& record : pending_) {
-    by_plane[record.index].push_back(record.distance);
+    if (!planes_[record.index].facade) continue;
+    ConsensusWitness& witness = by_plane[record.index];
+    witness.plane_index = record.index;
+    witness.normal = planes_[record.index].plane.plane_in_map.normal;
+    witness.distances.push_back(record.distance);
   }
-  struct Witness {
-    std::size_t index;
-    Eigen::Vector3d normal;
-    RobustLocation location;
-  };
-  std::vector<Witness> witnesses;
-  for (auto& [index, distances] : by_plane) {
-    if (!planes_[index].facade) continue;
-    if (static_cast<int>(distances.size()) < options_.consensus_min_points) continue;
-    witnesses.push_back(
-        {index, planes_[index].plane.plane_in_map.normal, MedianAndError(distances)});
-  }
-  const double cos_peer = std::cos(options_.bias_peer_angle_deg * std::numbers::pi / 180.0);
-  auto tolerance = [&](const Witness& w) {
-    return std::max(options_.consensus_tolerance, 3.0 * w.location.standard_error);
-  };
-  // Hypotheses: the offset along each plane's normal that its own median asks for. A hypothesis
-  // is supported by the planes of about that normal whose median it explains, and opposed by
-  // those of that normal that agree with the trajectory as it is (one of them may be a wrong
-  // plane that pulled the trajectory onto itself); it must win. Planes that agree with neither
-  // (a moved plane seen with the rest) do not count.
-  Consensus best;
-  for (const Witness& hypothesis : witnesses) {
-    const double offset = hypothesis.location.median;
-    if (std::abs(offset) < options_.consensus_min_offset) continue;
-    const Eigen::Vector3d direction = hypothesis.normal * (offset > 0 ? 1.0 : -1.0);
-    std::vector<double> along;  // supporters' offsets along `direction`
-    std::vector<std::size_t> supporters;
-    int opposed = 0;
-    for (const Witness& w : witnesses) {
-      const double alignment = w.normal.dot(direction);
-      if (std::abs(alignment) < cos_peer) continue;
-      if (std::abs(w.location.median - alignment * std::abs(offset)) <= tolerance(w)) {
-        along.push_back(w.location.median / alignment);
-        supporters.push_back(w.index);
-      } else if (std::abs(w.location.median) <= tolerance(w)) {
-        ++opposed;  // agrees with the trajectory as it is
-      }
-    }
-    const int support = static_cast<int>(along.size());
-    if (support < options_.consensus_min_planes || support <= opposed) continue;
-    const int best_support = static_cast<int>(best.supporters.size());
-    if (support < best_support) continue;
-    const RobustLocation location = MedianAndError(along);
-    if (support == best_support && std::abs(location.median) >= best.offset.norm()) continue;
-    if (std::abs(location.median) < options_.consensus_min_offset) continue;
-    best.offset = direction * location.median;
-    best.supporters = std::move(supporters);
-  }
-  return best;
+  std::vector<ConsensusWitness> witnesses;
+  for (auto& [index, witness] : by_plane) witnesses.push_back(std::move(witness));
+  ConsensusRule rule;
+  rule.min_planes = options_.consensus_min_planes;
+  rule.min_points = options_.consensus_min_points;
+  rule.min_offset = options_.consensus_min_offset;
+  rule.tolerance = options_.consensus_tolerance;
+  rule.peer_angle_deg = options_.bias_peer_angle_deg;
+  return FindTrajectoryConsensus(std::move(witnesses), rule);
 }
 
 void PlaneAssociator::FinishRecords() {
@@ -472,7 +417,7 @@ int PlaneAssociator::UpdateHealth(int associations) {
     values.clear();
     for (const auto& [id, s] : flat.distance_by_point) values.push_back(s);
     const std::size_t n = values.size();
-    const RobustLocation location = MedianAndError(values);
+    const RobustLocation location = RobustMedian(values);
     PlaneHealth& health = flat.health;
     const bool was_judged = health.points >= options_.bias_min_points;
     health.points = static_cast<int>(n);
@@ -602,7 +547,7 @@ void PlaneAssociator::ResetHealth() {
   num_disabled_ = 0;
   num_reanchored_ = 0;
   pending_.clear();
-  consensus_ = Consensus{};
+  consensus_ = TrajectoryConsensus{};
 }
 
 void PlaneAssociator::FillGateStats(CreaseCheckStats& stats) const {

@@ -39,6 +39,7 @@
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/tracking/crease_check.h"
+#include "planeloc/tracking/trajectory_consensus.h"
 
 namespace planeloc {
 
@@ -293,9 +294,8 @@ class PlaneAssociator {
   template <typename F>
   void ForCandidates(const Eigen::Vector3d& point_in_map, F f) const;
   double Variance(const FlatPlane& flat) const;
-  // The consensus offset of the records in pending_ (zero when none).
-  struct Consensus;
-  Consensus ConsensusOffset() const;
+  // The consensus of the facades' records in pending_ (offset zero when none).
+  TrajectoryConsensus ConsensusOffset() const;
   // Signed distance of x from the plane, or, for a disabled plane, from the surface its points
   // showed (the plane moved by their median).
   double SurfaceDistance(const FlatPlane& flat, const Eigen::Vector3d& x) const;
@@ -313,11 +313,7 @@ class PlaneAssociator {
     double distance;
   };
   std::vector<PendingRecord> pending_;  // Record calls since the last FinishRecords
-  struct Consensus {
-    Eigen::Vector3d offset = Eigen::Vector3d::Zero();
-    std::vector<std::size_t> supporters;  // indices of the planes that agreed on it
-  };
-  Consensus consensus_;  // of the last FinishRecords
+  TrajectoryConsensus consensus_;  // of the last FinishRecords (supporters: indices in planes_)
   int num_disabled_ = 0;
   int num_reanchored_ = 0;
   int windows_ = 0;
