@@ -2,10 +2,13 @@
 # Builds Release, runs every benchmark and rewrites docs/benchmarks.md (issue 12 item 4).
 #
 # Usage: scripts/bench.sh [--quick] [--fresh] [--no-build] [--drives "PRESET:SEED,... ..."]
+#                         [--no-robustness]
 #   --quick     under 5 minutes on a 2-core machine: the simulator's `tiny` drive (one seed) and a
 #               subset of the Google Benchmark programs with short minimum times
 #   (default)   every benchmark; `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2 (about an
-#               hour, most of it kitti07-like's simulation and plane map, cached for later runs)
+#               hour, most of it kitti07-like's simulation and plane map, cached for later runs);
+#               and issue 10's table of wrong plane maps and the ablation (about 25 minutes)
+#   --no-robustness  the full mode without the wrong maps and the ablation
 #   --fresh     remake the cached simulator drives and plane maps (build/bench/data/)
 #   --no-build  use the binaries in the build folder as they are
 #   --drives    other simulated drives than the mode's, e.g. "small:3 kitti07-like:1" (the page
@@ -24,6 +27,7 @@ while [ $# -gt 0 ]; do
     --fresh) run_args+=(--fresh); shift ;;
     --no-build) build=0; shift ;;
     --drives) run_args+=(--drives "$2"); shift 2 ;;
+    --no-robustness) run_args+=(--no-robustness); shift ;;
     -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1' "$0"; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac

@@ -144,6 +144,31 @@ class BenchReportTest(unittest.TestCase):
         # Runs without a stats file have no row.
         self.assertNotIn("planes-deterministic", self.section("Per-frame time by stage"))
 
+    def test_wrong_maps_against_the_bound(self):
+        # small seed 3: worst of the five wrong maps is moved 0.2 m, 0.07 / clean 0.05 = 1.40
+        # (within 1.5, not bold); / oracle 0.056 = 1.25; every map below VO 0.2.
+        cells = self.row("A map that can be wrong", "`small` seed 3")
+        self.assertEqual(cells[1:9], ["0.2000", "0.0500", "0.0600", "0.0700", "0.0650", "0.0550",
+                                      "0.0600", "0.0560"])
+        self.assertEqual(cells[9:12], ["1.40", "1.25", "yes"])
+        self.assertIn("bench_wrong_map.sh", cells[12])
+        self.assertEqual(cells[13], TAG)
+        # tiny seed 21: worst moved 0.3 m 0.12 / clean 0.04 = 3.00 (bold), / oracle 0.048 =
+        # 2.50; 0.12 is above VO 0.1.
+        cells = self.row("A map that can be wrong", "`tiny` seed 21")
+        self.assertEqual(cells[9:12], ["**3.00**", "2.50", "**no**"])
+        self.assertIn("Within the bound (worst / clean ≤ 1.5): 1 of 2 drives; every plane map "
+                      "below VO: 1 of 2.", self.section("A map that can be wrong"))
+
+    def test_ablation_against_the_defaults(self):
+        # lambda1: clean (0.09 + 0.15) / 2 = 0.12 over the default (0.05 + 0.07) / 2 = 0.06 ->
+        # 2.00; moved 0.2 m 0.12 over (0.08 + 0.10) / 2 = 0.09 -> 1.33.
+        cells = self.row("A map that can be wrong", "| lambda1 |")
+        self.assertEqual(cells[1], "LocalBA.lambda: 1")
+        self.assertEqual(cells[2:8], ["0.0900 / 0.1500", "0.1200", "2.00", "0.0900 / 0.1500",
+                                      "0.1200", "1.33"])
+        self.assertEqual(self.row("A map that can be wrong", "| default |")[4], "1.00")
+
     def test_missing_results_fail_cleanly(self):
         with tempfile.TemporaryDirectory() as empty:
             code, stderr, page = generate(empty)
