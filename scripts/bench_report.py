@@ -427,17 +427,25 @@ def accuracy(data, tag):
     return rows
 
 
-# Issue 10 item 5: (kind in robustness.json, column title); the wrong maps of the bound.
+# Issue 10 item 5: (kind in robustness.json, column title). The moved and rotated maps are the
+# localizer's test (against the clean map, the oracle map and VO); the map from noisy poses is the
+# map side's (its remedy is `map refine-poses`, not run here) and is reported on its own.
 WRONG_MAP_COLUMNS = [("vo", "VO"), ("clean", "clean"), ("move0.1", "moved 0.1 m"),
                      ("move0.2", "moved 0.2 m"), ("move0.3", "moved 0.3 m"),
-                     ("rot2", "rotated 2°"), ("noisy", "noisy poses"), ("oracle", "oracle")]
-WRONG_MAPS = ("move0.1", "move0.2", "move0.3", "rot2", "noisy")
+                     ("rot2", "rotated 2°"), ("oracle", "oracle")]
+WRONG_MAPS = ("move0.1", "move0.2", "move0.3", "rot2")
 WRONG_MAP_BOUND = 1.5  # worst wrong map / clean map
+
+
+def bound_cell(value):
+    text = f"{value:.2f}"
+    return text if value <= WRONG_MAP_BOUND else f"**{text}**"
 
 
 def wrong_maps(data, tag):
     """Rows of the wrong-map table and a sentence counting the drives within the bounds."""
-    rows, within, below_vo = [], 0, 0
+    rows = []
+    within = below_vo = noisy_within = noisy_below_vo = 0
     records = data["robustness"]["wrong_maps"]
     for r in records:
         ate = r["ate3d_m"]
@@ -446,15 +454,20 @@ def wrong_maps(data, tag):
         within += to_clean <= WRONG_MAP_BOUND
         all_below = all(ate[k] < ate["vo"] for k in WRONG_MAPS + ("clean",))
         below_vo += all_below
-        bound_text = f"{to_clean:.2f}"
+        noisy = ate["noisy"] / ate["clean"]
+        noisy_within += noisy <= WRONG_MAP_BOUND
+        noisy_below_vo += ate["noisy"] < ate["vo"]
         rows.append([f"`{r['preset']}` seed {r['seed']} ({r['frames']} frames, "
                      f"{r['path_m']:.0f} m)"]
                     + [f"{ate[k]:.4f}" for k, _ in WRONG_MAP_COLUMNS]
-                    + [bound_text if to_clean <= WRONG_MAP_BOUND else f"**{bound_text}**",
-                       ratio(worst, ate["oracle"]), "yes" if all_below else "**no**",
-                       code(r["command"]), tag])
-    summary = (f"Within the bound (worst / clean ≤ {WRONG_MAP_BOUND}): {within} of "
-               f"{len(records)} drives; every plane map below VO: {below_vo} of {len(records)}.")
+                    + [bound_cell(to_clean), ratio(worst, ate["oracle"]),
+                       "yes" if all_below else "**no**", f"{ate['noisy']:.4f}", bound_cell(noisy),
+                       "yes" if ate["noisy"] < ate["vo"] else "**no**", code(r["command"]), tag])
+    n = len(records)
+    summary = (f"Moved or rotated planes, worst / clean ≤ {WRONG_MAP_BOUND}: {within} of {n} "
+               f"drives; clean and wrong maps all below VO: {below_vo} of {n}. Map from noisy "
+               f"poses, not refined: ≤ {WRONG_MAP_BOUND}× clean on {noisy_within} of {n}, below VO "
+               f"on {noisy_below_vo} of {n}.")
     return rows, summary
 
 
@@ -596,14 +609,19 @@ def render(data):
             "rotated by 2°; *noisy poses*: the LiDAR map built from poses with 5 cm / 0.2° noise "
             "(`scripts/noisy_poses.py`). *oracle*: the clean map without the planes the wrong "
             "maps corrupt, what a tracker that disabled exactly the wrong planes from the first "
-            "frame would reach. Worst: the largest of the five wrong maps; the issue's bound is "
-            f"worst / clean ≤ {WRONG_MAP_BOUND} and every plane map below VO. One run scatters "
+            "frame would reach. Worst: the largest of the four moved or rotated maps; the issue's "
+            f"bound is worst / clean ≤ {WRONG_MAP_BOUND} and every plane map below VO, for the "
+            "wrong maps and for the noisy one. The noisy map's planes are themselves wrong "
+            "(single-scan layers, tilted ground pieces); its remedy is on the map side, "
+            "`planeloc map refine-poses` before `map build` (not run here: 1.00–1.30× clean on "
+            "`small` seeds 3, 11, 21, 7 in experiments.md). One run scatters "
             "by about ±10 % (±25 % on `small` seed 13): the draws over jittered copies of the "
             "maps are in [experiments.md](experiments.md). `small` seeds 3, 11 and 21 tuned the "
             "association; 7, 13 and 29 did not (7 and 13 were diagnosed), nor did any `tiny` "
             "seed here.\n\n" + summary + "\n\n"
             + table(["drive"] + [title for _, title in WRONG_MAP_COLUMNS]
-                    + ["worst / clean", "worst / oracle", "all below VO", "command", "measured"],
+                    + ["worst / clean", "worst / oracle", "all below VO", "noisy poses",
+                       "noisy / clean", "noisy below VO", "command", "measured"],
                     rows)
             + "\n\n### Ablation\n\n"
             f"Each variant changes one setting from the defaults (`scripts/bench_ablation.sh`), "
