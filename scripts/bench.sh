@@ -7,7 +7,8 @@
 #               subset of the Google Benchmark programs with short minimum times
 #   (default)   every benchmark; `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2 (about an
 #               hour, most of it kitti07-like's simulation and plane map, cached for later runs);
-#               and issue 10's table of wrong plane maps and the ablation (33 minutes on 2 cores when the drives and maps are made, 2026-12-03)
+#               and issue 10's table of wrong plane maps and the ablation (33 minutes on 2
+#               cores when its drives and maps are made first, 2026-12-03)
 #   --no-robustness  the full mode without the wrong maps and the ablation
 #   --fresh     remake the cached simulator drives and plane maps (build/bench/data/)
 #   --no-build  use the binaries in the build folder as they are
