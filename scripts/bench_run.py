@@ -12,8 +12,8 @@ docs/benchmarks.md. Writes, under --out (build/bench by default):
                  LocalBA.lambda 1): wall time, peak RSS, frames per second, ATE 3-D and 2-D and
                  KITTI drift from `planeloc eval`
   robustness.json  full mode only, issue 10 item 5: per drive of WRONG_MAP_DRIVES the ATE with
-                 the plane map, wrong copies of it, a map from noisy poses, the oracle map and no
-                 map (scripts/bench_wrong_map.sh); the ablation of ABLATION_VARIANTS on
+                 the plane map, wrong copies of it, a map from noisy poses (as it is and refined
+                 by `map refine-poses`), the oracle map and no map (scripts/bench_wrong_map.sh); the ablation of ABLATION_VARIANTS on
                  ABLATION_DRIVE (scripts/bench_ablation.sh)
   data/<preset>-<seed>/  simulator output, map.pcd, planes.json (reused by later runs; --fresh
                  rebuilds them) and steps.json (how they were made: commands, wall time, peak RSS);
@@ -55,7 +55,8 @@ LAMBDA1_SETTINGS = "%YAML:1.0\nLocalBA.lambda: 1\n"
 # scripts/bench_wrong_map.sh they run, and the ablation (scripts/bench_ablation.sh). Seeds 3, 11
 # and 21 of `small` tuned the association; 7, 13 and 29 did not (7 and 13 were diagnosed).
 WRONG_MAP_DRIVES = [("small", [3, 11, 21, 7, 13, 29]), ("tiny", [3, 11, 21])]
-WRONG_MAP_KINDS = ["vo", "clean", "move0.1", "move0.2", "move0.3", "rot2", "noisy", "oracle"]
+WRONG_MAP_KINDS = ["vo", "clean", "move0.1", "move0.2", "move0.3", "rot2", "oracle", "noisy",
+                   "refined"]
 ABLATION_DRIVE = ("small", [3, 11, 21])
 ABLATION_KINDS = ["clean", "move0.2"]
 ABLATION_VARIANTS = ["default", "lambda1", "lambda0.8", "lambda0.2", "creasegate", "fixedwindow",

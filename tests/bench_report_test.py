@@ -152,15 +152,21 @@ class BenchReportTest(unittest.TestCase):
         self.assertEqual(cells[1:8], ["0.2000", "0.0500", "0.0600", "0.0700", "0.0650", "0.0550",
                                       "0.0560"])
         self.assertEqual(cells[8:14], ["1.40", "1.25", "yes", "0.0600", "1.20", "yes"])
-        self.assertIn("bench_wrong_map.sh", cells[14])
-        self.assertEqual(cells[15], TAG)
+        # refined 0.055 / 0.05 = 1.10, below VO.
+        self.assertEqual(cells[14:17], ["0.0550", "1.10", "yes"])
+        self.assertIn("bench_wrong_map.sh", cells[17])
+        self.assertEqual(cells[18], TAG)
         # tiny seed 21: worst moved 0.3 m 0.12 / clean 0.04 = 3.00 (bold), / oracle 0.048 =
-        # 2.50; 0.12 is above VO 0.1; noisy 0.05 / 0.04 = 1.25, below VO.
+        # 2.50; 0.12 is above VO 0.1; noisy 0.05 / 0.04 = 1.25, below VO; refined 0.11 / 0.04 =
+        # 2.75, above VO.
         cells = self.row("A map that can be wrong", "`tiny` seed 21")
-        self.assertEqual(cells[8:14], ["**3.00**", "2.50", "**no**", "0.0500", "1.25", "yes"])
+        self.assertEqual(cells[8:17], ["**3.00**", "2.50", "**no**", "0.0500", "1.25", "yes",
+                                       "0.1100", "**2.75**", "**no**"])
         self.assertIn("Moved or rotated planes, worst / clean ≤ 1.5: 1 of 2 drives; clean and "
                       "wrong maps all below VO: 1 of 2. Map from noisy poses, not refined: ≤ 1.5× "
-                      "clean on 2 of 2, below VO on 2 of 2.", self.section("A map that can be wrong"))
+                      "clean on 2 of 2, below VO on 2 of 2. Map from noisy poses, refined by "
+                      "`map refine-poses`: ≤ 1.5× clean on 1 of 2, below VO on 1 of 2.",
+                      self.section("A map that can be wrong"))
 
     def test_ablation_against_the_defaults(self):
         # lambda1: clean (0.09 + 0.15) / 2 = 0.12 over the default (0.05 + 0.07) / 2 = 0.06 ->
