@@ -15,7 +15,8 @@ has one, a ratio of its result to a reference measured in the same run:
   accuracy      per preset and mode over its seeds: mean, spread and range of ATE RMSE 3-D and 2-D
                 and KITTI drift; beside them the paper's KITTI-07 numbers, labelled as reported in
                 the paper and not measured here
-  wrong maps    issue 10 item 5 (RESULTS/robustness.json, full mode): per drive, ATE with the plane
+  wrong maps    issue 10 item 5 (RESULTS/robustness.json, full mode; bench_report_wrong_maps.py;
+                number formatting in bench_format.py): per drive, ATE with the plane
                 map, its wrong copies, a map from noisy poses, the oracle map and no map; the
                 worst wrong map over the clean map (bound 1.5) and over the oracle map; and the
                 ablation of the association's settings, each against the defaults
@@ -31,11 +32,12 @@ Usage: scripts/bench_report.py [--results build/bench] [--out docs/benchmarks.md
 import argparse
 import glob
 import json
-import math
 import os
 import re
-import statistics
 import sys
+
+import bench_report_wrong_maps
+from bench_format import cell, code, mean_or_none, num, ratio, spread, table
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -98,64 +100,6 @@ def load(results):
         except (OSError, ValueError) as e:
             raise ReportError(f"{path}: {e}") from e
     return out
-
-
-# ---------------------------------------------------------------------------------------------
-# Formatting
-
-
-def num(x, decimals=None):
-    """A number with about three significant digits (or fixed decimals); '—' when missing."""
-    if x is None or (isinstance(x, float) and math.isnan(x)):
-        return "—"
-    if decimals is not None:
-        return f"{x:.{decimals}f}"
-    ax = abs(x)
-    if ax >= 100:
-        return f"{x:.0f}"
-    if ax >= 10:
-        return f"{x:.1f}"
-    if ax >= 1:
-        return f"{x:.2f}"
-    return f"{x:.3g}"
-
-
-def ratio(value, reference):
-    if value is None or reference is None or reference == 0:
-        return "—"
-    return f"{value / reference:.2f}"
-
-
-def code(text):
-    return "`" + text.replace("|", "\\|") + "`"
-
-
-def cell(text):
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
-def table(header, rows):
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
-
-
-def spread(values, decimals):
-    """'mean ± sample std (min–max)' of values; the std and range only with two or more."""
-    values = [v for v in values if v is not None]
-    if not values:
-        return "—"
-    mean = statistics.fmean(values)
-    if len(values) == 1:
-        return f"{mean:.{decimals}f}"
-    std = statistics.stdev(values)
-    return (f"{mean:.{decimals}f} ± {std:.{decimals}f} "
-            f"({min(values):.{decimals}f}–{max(values):.{decimals}f})")
-
-
-def mean_or_none(values):
-    values = [v for v in values if v is not None]
-    return statistics.fmean(values) if values else None
 
 
 # ---------------------------------------------------------------------------------------------
@@ -427,90 +371,6 @@ def accuracy(data, tag):
     return rows
 
 
-# Issue 10 item 5: (kind in robustness.json, column title). The moved and rotated maps are the
-# localizer's test (against the clean map, the oracle map and VO); the map from noisy poses is the
-# map side's (its remedy is `map refine-poses`, not run here) and is reported on its own.
-WRONG_MAP_COLUMNS = [("vo", "VO"), ("clean", "clean"), ("move0.1", "moved 0.1 m"),
-                     ("move0.2", "moved 0.2 m"), ("move0.3", "moved 0.3 m"),
-                     ("rot2", "rotated 2°"), ("oracle", "oracle")]
-WRONG_MAPS = ("move0.1", "move0.2", "move0.3", "rot2")
-WRONG_MAP_BOUND = 1.5  # worst wrong map / clean map
-
-
-def bound_cell(value):
-    text = f"{value:.2f}"
-    return text if value <= WRONG_MAP_BOUND else f"**{text}**"
-
-
-# Maps from noisy poses: (kind, title in the summary), reported when the results have them.
-NOISY_MAPS = [("noisy", "not refined"), ("refined", "refined by `map refine-poses`")]
-
-
-def noisy_kinds(data):
-    return [k for k, _ in NOISY_MAPS if k in data["robustness"]["kinds"]]
-
-
-def wrong_maps(data, tag):
-    """Rows of the wrong-map table and a sentence counting the drives within the bounds."""
-    rows = []
-    within = below_vo = 0
-    noisy = noisy_kinds(data)
-    noisy_within = dict.fromkeys(noisy, 0)
-    noisy_below_vo = dict.fromkeys(noisy, 0)
-    records = data["robustness"]["wrong_maps"]
-    for r in records:
-        ate = r["ate3d_m"]
-        worst = max(ate[k] for k in WRONG_MAPS)
-        to_clean = worst / ate["clean"]
-        within += to_clean <= WRONG_MAP_BOUND
-        all_below = all(ate[k] < ate["vo"] for k in WRONG_MAPS + ("clean",))
-        below_vo += all_below
-        noisy_cells = []
-        for k in noisy:
-            noisy_within[k] += ate[k] / ate["clean"] <= WRONG_MAP_BOUND
-            noisy_below_vo[k] += ate[k] < ate["vo"]
-            noisy_cells += [f"{ate[k]:.4f}", bound_cell(ate[k] / ate["clean"]),
-                            "yes" if ate[k] < ate["vo"] else "**no**"]
-        rows.append([f"`{r['preset']}` seed {r['seed']} ({r['frames']} frames, "
-                     f"{r['path_m']:.0f} m)"]
-                    + [f"{ate[k]:.4f}" for k, _ in WRONG_MAP_COLUMNS]
-                    + [bound_cell(to_clean), ratio(worst, ate["oracle"]),
-                       "yes" if all_below else "**no**"]
-                    + noisy_cells + [code(r["command"]), tag])
-    n = len(records)
-    summary = (f"Moved or rotated planes, worst / clean ≤ {WRONG_MAP_BOUND}: {within} of {n} "
-               f"drives; clean and wrong maps all below VO: {below_vo} of {n}.")
-    for k, title in NOISY_MAPS:
-        if k in noisy:
-            summary += (f" Map from noisy poses, {title}: ≤ {WRONG_MAP_BOUND}× clean on "
-                        f"{noisy_within[k]} of {n}, below VO on {noisy_below_vo[k]} of {n}.")
-    return rows, summary
-
-
-def noisy_header(data):
-    titles = {"noisy": "noisy poses", "refined": "refined"}
-    header = []
-    for k in noisy_kinds(data):
-        header += [titles[k], f"{titles[k]} / clean", f"{titles[k]} below VO"]
-    return header
-
-
-def ablation(data, tag):
-    abl = data["robustness"]["ablation"]
-    means = {v["name"]: {k: statistics.fmean(v["ate3d_m"][k]) for k in abl["kinds"]}
-             for v in abl["variants"]}
-    default = means.get("default")
-    rows = []
-    for v in abl["variants"]:
-        row = [v["name"], cell("; ".join(v["settings"]) or "(defaults)")]
-        for k in abl["kinds"]:
-            row.append(" / ".join(f"{x:.4f}" for x in v["ate3d_m"][k]))
-            row.append(f"{means[v['name']][k]:.4f}")
-            row.append(ratio(means[v["name"]][k], default[k]) if default else "—")
-        rows.append(row + [tag])
-    return rows
-
-
 def processes(data, tag):
     rows = []
     for drive in data["pipeline"]["drives"]:
@@ -615,43 +475,7 @@ def render(data):
         + table(["drive", "mode", "command", "ATE 3-D (m)", "ATE 2-D (m)", "t_rel (%)",
                  "r_rel (°/100 m)", "ratio to VO", "measured"], accuracy(data, tag)))
     if data.get("robustness"):
-        rob = data["robustness"]
-        rows, summary = wrong_maps(data, tag)
-        abl = rob["ablation"]
-        kind_titles = dict(WRONG_MAP_COLUMNS)
-        abl_header = ["variant", "settings (beside the defaults)"]
-        for k in abl["kinds"]:
-            title = kind_titles.get(k, k)
-            abl_header += [f"{title}: per seed (m)", f"{title}: mean (m)",
-                           f"{title}: / default"]
-        parts.append(
-            "## A map that can be wrong (issue 10)\n\n"
-            "ATE RMSE 3-D (m), no alignment, `planeloc run --deterministic` from the exact first "
-            "pose (`--init-sigma \"0 0 0\"`), one run per cell, by "
-            "`scripts/bench_wrong_map.sh`. The wrong maps (`scripts/corrupt_planes.py`): 20 % of "
-            "the planes the tracker uses moved by 0.1, 0.2 or 0.3 m along their normal, or "
-            "rotated by 2°; *noisy poses*: the LiDAR map built from poses with 5 cm / 0.2° noise "
-            "(`scripts/noisy_poses.py`). *oracle*: the clean map without the planes the wrong "
-            "maps corrupt, what a tracker that disabled exactly the wrong planes from the first "
-            "frame would reach. Worst: the largest of the four moved or rotated maps; the issue's "
-            f"bound is worst / clean ≤ {WRONG_MAP_BOUND} and every plane map below VO, for the "
-            "wrong maps and for the noisy one. The noisy map's planes are themselves wrong "
-            "(single-scan layers, tilted ground pieces); its remedy is on the map side, "
-            "`planeloc map refine-poses` before `map build` (*refined*; pose graph of scan-to-scan "
-            "ICP with the noisy poses as priors). One run scatters "
-            "by about ±10 % (±25 % on `small` seed 13): the draws over jittered copies of the "
-            "maps are in [experiments.md](experiments.md). `small` seeds 3, 11 and 21 tuned the "
-            "association; 7, 13 and 29 did not (7 and 13 were diagnosed), nor did any `tiny` "
-            "seed here.\n\n" + summary + "\n\n"
-            + table(["drive"] + [title for _, title in WRONG_MAP_COLUMNS]
-                    + ["worst / clean", "worst / oracle", "all below VO"] + noisy_header(data)
-                    + ["command", "measured"],
-                    rows)
-            + "\n\n### Ablation\n\n"
-            f"Each variant changes one setting from the defaults (`scripts/bench_ablation.sh`), "
-            f"`{abl['preset']}` seeds {', '.join(map(str, abl['seeds']))}, same maps as above "
-            "(moved 0.2 m: 20 % of the planes). Command: " + code(abl["command"]) + ".\n\n"
-            + table(abl_header + ["measured"], ablation(data, tag)))
+        parts.append(bench_report_wrong_maps.section(data, tag))
     parts.append(
         "## Processes of the pipeline: time and peak RSS\n\n"
         "Peak RSS: `ru_maxrss` of the process (wait4). Simulator and map steps are cached under "

@@ -1,0 +1,57 @@
+"""Number and Markdown formatting shared by scripts/bench_report.py and its sections."""
+import math
+import statistics
+
+
+def num(x, decimals=None):
+    """A number with about three significant digits (or fixed decimals); '—' when missing."""
+    if x is None or (isinstance(x, float) and math.isnan(x)):
+        return "—"
+    if decimals is not None:
+        return f"{x:.{decimals}f}"
+    ax = abs(x)
+    if ax >= 100:
+        return f"{x:.0f}"
+    if ax >= 10:
+        return f"{x:.1f}"
+    if ax >= 1:
+        return f"{x:.2f}"
+    return f"{x:.3g}"
+
+
+def ratio(value, reference):
+    if value is None or reference is None or reference == 0:
+        return "—"
+    return f"{value / reference:.2f}"
+
+
+def code(text):
+    return "`" + text.replace("|", "\\|") + "`"
+
+
+def cell(text):
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def spread(values, decimals):
+    """'mean ± sample std (min–max)' of values; the std and range only with two or more."""
+    values = [v for v in values if v is not None]
+    if not values:
+        return "—"
+    mean = statistics.fmean(values)
+    if len(values) == 1:
+        return f"{mean:.{decimals}f}"
+    std = statistics.stdev(values)
+    return (f"{mean:.{decimals}f} ± {std:.{decimals}f} "
+            f"({min(values):.{decimals}f}–{max(values):.{decimals}f})")
+
+
+def mean_or_none(values):
+    values = [v for v in values if v is not None]
+    return statistics.fmean(values) if values else None
