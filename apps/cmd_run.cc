@@ -256,7 +256,9 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
                   "(metres horizontal, metres vertical, degrees of heading; roll and pitch come "
                   "from the road). With --planes the default is \"2 0.5 5\" (GNSS-like): the run "
                   "registers its stereo structure to the plane map and moves into the map frame "
-                  "when it locks. \"0 0 0\": the initial pose is exact (no registration)");
+                  "when it locks. \"0 0 0\": the initial pose is exact (no registration). The "
+                  "registration searches at most S_XY <= 10 m, S_Z <= 2 m, S_YAW_DEG <= 15 deg; "
+                  "wider values are refused (exit 2)");
   cmd->add_option("--out", args->out, "Output trajectory (one pose per frame)")->required();
   cmd->add_option("--format", args->format, "kitti | tum")
       ->check(CLI::IsMember({"kitti", "tum"}))

@@ -8,10 +8,17 @@ plane map, then runs plane mode from start poses perturbed by draws from a prior
     partial lock only the registered DoF count: lateral, vertical, heading);
   - the ATE RMSE (no alignment: the map fixes the frame) over the frames after the lock;
   - the same frames for the visual-only baseline and for plane mode from the exact start.
+With --exact-start (issue 30) it also runs the default prior from the *exact* start pose, which
+must never end worse than the exact start itself (`--init-sigma "0 0 0"`): ATE over all frames,
+its ratio to the exact start, and VO on the same frames.
+Every run's applied corrections are checked against their gate from the stats (each registered
+DoF within 3 sigma of its innovation sigma), and the most planes disabled at once is reported
+(on a clean map every disabled plane is a correct one).
 Writes JSON (--json) and prints a Markdown table. Every draw is seeded: reruns are identical.
 
 Usage: scripts/bench_map_lock.py [--planeloc build/bin/planeloc] [--work /tmp/planeloc-maplock]
-         [--preset small] [--seeds 3 11] [--draws 20] [--sigma "2 0.5 5"] [--json out.json]
+         [--preset small] [--seeds 3 11] [--draws 20] [--sigma "2 0.5 5"] [--exact-start]
+         [--json out.json]
 """
 import argparse
 import hashlib
@@ -141,6 +148,34 @@ def read_stats(path):
         return [json.loads(line) for line in f if line.strip()]
 
 
+def check_corrections(stats, limit=3.0):
+    """(applied corrections, those beyond `limit` sigma in a registered DoF, worst ratio)."""
+    applied, beyond, worst = 0, 0, 0.0
+    for s in stats:
+        reg = s.get("registration")
+        if not reg or not reg.get("applied"):
+            continue
+        applied += 1
+        fusion = reg.get("fusion")
+        if not fusion:  # an applied correction without its gate: counts as a violation
+            beyond += 1
+            continue
+        ratio = 0.0
+        for dof, value in fusion["applied"].items():
+            sigma = fusion["innovation_sigma"].get(dof)
+            if value is None or sigma is None or value == 0.0:
+                continue
+            ratio = max(ratio, abs(value) / sigma)
+        worst = max(worst, ratio)
+        if ratio > limit + 1e-6:
+            beyond += 1
+    return applied, beyond, worst
+
+
+def max_disabled(stats):
+    return max((s.get("planes_disabled", 0) for s in stats), default=0)
+
+
 def prepare(args, preset, seed):
     work = os.path.join(args.work, f"{preset}-{seed}")
     log = os.path.join(work, "log.txt")
@@ -181,6 +216,8 @@ def main():
     ap.add_argument("--draws", type=int, default=20)
     ap.add_argument("--sigma", default="2 0.5 5", help="prior of the draws and of the run")
     ap.add_argument("--lock-distance", type=float, default=60.0)
+    ap.add_argument("--exact-start", action="store_true",
+                    help="also run the prior from the exact start (issue 30)")
     ap.add_argument("--json", default="")
     args = ap.parse_args()
     s_xy, s_z, s_yaw = (float(x) for x in args.sigma.split())
@@ -204,6 +241,24 @@ def main():
             run([args.planeloc, "run", "--sequence", seq, "--init-pose", exact_pose, "--no-planes",
                  "--out", vo + ".txt", "--deterministic"], log)
         exact_est, vo_est = read_kitti(ref + ".txt"), read_kitti(vo + ".txt")
+        if args.exact_start:
+            out = os.path.join(work, f"exactprior-{args.sigma.replace(' ', '_')}")
+            rc, seconds = run_plane_mode(args, seq, planes, exact_pose, args.sigma, out, log)
+            row = {"preset": args.preset, "seed": seed, "draw": "exact", "rc": rc,
+                   "seconds": seconds}
+            if rc == 0:
+                est, stats = read_kitti(out + ".txt"), read_stats(out + ".jsonl")
+                applied, beyond, worst = check_corrections(stats)
+                row.update({
+                    "ate_all_frames_m": ate(est, gt, 0),
+                    "ate_exact_start_m": ate(exact_est, gt, 0),
+                    "ate_vo_m": ate(vo_est, gt, 0),
+                    "corrections": applied, "corrections_beyond_3sigma": beyond,
+                    "worst_correction_sigmas": worst, "max_planes_disabled": max_disabled(stats),
+                    "final_lock": stats[-1].get("map_lock") if stats else None})
+                row["ratio_to_exact"] = row["ate_all_frames_m"] / row["ate_exact_start_m"]
+            rows.append(row)
+            print(json.dumps(row), flush=True)
         for k in range(args.draws):
             rng = random.Random(seed * 1000 + k)
             dx, dz = rng.gauss(0, s_xy), rng.gauss(0, s_xy)
@@ -244,16 +299,23 @@ def main():
                     dist[locked] <= args.lock_distance or (corner is not None and locked <= corner))
                 row["wrong_lock"] = wrong
                 row["ate_all_frames_m"] = ate(est, gt, 0)
+                row["ate_vo_all_frames_m"] = ate(vo_est, gt, 0)
+                applied, beyond, worst = check_corrections(stats)
+                row.update({"corrections": applied, "corrections_beyond_3sigma": beyond,
+                            "worst_correction_sigmas": worst,
+                            "max_planes_disabled": max_disabled(stats)})
                 if first is not None:
                     row["ate_after_first_lock_m"] = ate(est, gt, first)
             rows.append(row)
             print(json.dumps(row), flush=True)
 
-    ok = [r for r in rows if r["rc"] == 0]
+    ok = [r for r in rows if r["rc"] == 0 and r["draw"] != "exact"]
+    exact_rows = [r for r in rows if r["rc"] == 0 and r["draw"] == "exact"]
     locked = [r for r in ok if r.get("lock_frame") is not None]
     summary = {
         "preset": args.preset, "seeds": args.seeds, "draws_per_seed": args.draws,
-        "sigma": args.sigma, "runs": len(rows), "failed_runs": len(rows) - len(ok),
+        "sigma": args.sigma, "runs": len(rows),
+        "failed_runs": sum(1 for r in rows if r["rc"] != 0),
         "locked": len(locked), "locked_in_time": sum(1 for r in ok if r.get("lock_in_time")),
         "wrong_locks": sum(1 for r in ok if r.get("wrong_lock")),
         "ate_after_lock_mean_m": (sum(r["ate_after_lock_m"] for r in locked) / len(locked)
@@ -263,6 +325,16 @@ def main():
             sum(r["ate_exact_start_same_frames_m"] for r in locked) / len(locked) if locked else None),
         "ate_vo_same_frames_mean_m": (sum(r["ate_vo_same_frames_m"] for r in locked) / len(locked)
                                       if locked else None),
+        "draws_above_vo_all_frames": sum(
+            1 for r in ok if r.get("ate_all_frames_m", 0) > r.get("ate_vo_all_frames_m", 1e9)),
+        "draws_after_lock_above_1.1x_exact": sum(
+            1 for r in locked
+            if r["ate_after_lock_m"] > 1.1 * r["ate_exact_start_same_frames_m"]),
+        "exact_start_worst_ratio": max((r["ratio_to_exact"] for r in exact_rows), default=None),
+        "exact_start_above_vo": sum(1 for r in exact_rows if r["ate_all_frames_m"] > r["ate_vo_m"]),
+        "corrections": sum(r.get("corrections", 0) for r in rows),
+        "corrections_beyond_3sigma": sum(r.get("corrections_beyond_3sigma", 0) for r in rows),
+        "runs_with_disabled_planes": sum(1 for r in rows if r.get("max_planes_disabled", 0) > 0),
         "lock_distance_median_m": (sorted(r["lock_distance_m"] for r in locked)[len(locked) // 2]
                                    if locked else None),
     }

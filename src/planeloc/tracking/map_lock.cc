@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <numbers>
 #include <set>
 
@@ -21,13 +22,59 @@ std::string JsonNumber(double value, int digits) {
 }  // namespace
 
 void StartPrior::Check() const {
-  for (const double sigma : {sigma_horizontal, sigma_vertical, sigma_yaw_deg}) {
-    if (!(std::isfinite(sigma) && sigma >= 0.0)) {
-      throw OptionsError(
-          "--init-sigma \"S_XY S_Z S_YAW_DEG\" needs three finite numbers >= 0 (metres, metres, "
-          "degrees)");
+  const double values[3] = {sigma_horizontal, sigma_vertical, sigma_yaw_deg};
+  const double maxima[3] = {kMaxSigmaHorizontal, kMaxSigmaVertical, kMaxSigmaYawDeg};
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::isfinite(values[i]) && values[i] >= 0.0 && values[i] <= maxima[i])) {
+      throw OptionsError(fmt::format(
+          "--init-sigma \"S_XY S_Z S_YAW_DEG\" needs 0 <= S_XY <= {} m, 0 <= S_Z <= {} m and 0 <= "
+          "S_YAW_DEG <= {} deg (the map registration's search range), got \"{} {} {}\"",
+          kMaxSigmaHorizontal, kMaxSigmaVertical, kMaxSigmaYawDeg, sigma_horizontal, sigma_vertical,
+          sigma_yaw_deg));
     }
   }
+}
+
+std::string StartPriorWarning(const PlaneMap& planes, const Eigen::Vector3d& start_position,
+                              const StartPrior& prior) {
+  if (prior.Exact() || planes.planes.empty()) return "";
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const MapPlane& plane : planes.planes) {
+    if (plane.polygon.empty()) continue;
+    Eigen::Vector3d plane_lo = plane.polygon.front(), plane_hi = plane_lo;
+    for (const Eigen::Vector3d& p : plane.polygon) {
+      plane_lo = plane_lo.cwiseMin(p);
+      plane_hi = plane_hi.cwiseMax(p);
+    }
+    lo = lo.cwiseMin(plane_lo);
+    hi = hi.cwiseMax(plane_hi);
+    const Eigen::Vector3d outside =
+        (plane_lo - start_position).cwiseMax(start_position - plane_hi).cwiseMax(0.0);
+    nearest = std::min(nearest, outside.norm());
+  }
+  if (!std::isfinite(nearest)) return "";  // no outlines: nothing to compare with
+  const std::string map_name = planes.source.empty() ? "the plane map" : planes.source.string();
+  // The structure reaches 20 m from the camera (MapLockOptions::max_point_distance).
+  const double reach = 3.0 * std::hypot(prior.sigma_horizontal, prior.sigma_vertical) + 20.0;
+  if (nearest > reach) {
+    return fmt::format(
+        "{}: the initial pose is {:.0f} m from the nearest plane, beyond what --init-sigma \"{} {} "
+        "{}\" can reach ({:.0f} m); the run stays visual odometry (map lock: searching) unless it "
+        "drives into the map. Check that the initial pose is in the plane map's frame.",
+        map_name, nearest, prior.sigma_horizontal, prior.sigma_vertical, prior.sigma_yaw_deg,
+        reach);
+  }
+  const double extent = (hi - lo).maxCoeff();
+  if (3.0 * prior.sigma_horizontal > extent) {
+    return fmt::format(
+        "{}: --init-sigma \"{} {} {}\" is wider than the map ({:.0f} m across): the registration "
+        "may find several places that fit; the run stays visual odometry (map lock: searching) "
+        "until one fits clearly better. Narrow the prior if the start is known better.",
+        map_name, prior.sigma_horizontal, prior.sigma_vertical, prior.sigma_yaw_deg, extent);
+  }
+  return "";
 }
 
 void MapLockOptions::Check() const {
@@ -39,6 +86,12 @@ void MapLockOptions::Check() const {
   if (settle_keyframes < 0) throw OptionsError("MapLock.settleKeyframes must be >= 0");
   if (maintain_every_keyframes < 0) {
     throw OptionsError("MapLock.maintainEveryKeyframes must be >= 0 (0: never)");
+  }
+  if (!(max_correction_sigmas > 0)) {
+    throw OptionsError("MapLock.maxCorrectionSigmas must be > 0");
+  }
+  if (!(min_correction_sigmas >= 0 && min_correction_sigmas < max_correction_sigmas)) {
+    throw OptionsError("MapLock.minCorrectionSigmas must be >= 0 and < maxCorrectionSigmas");
   }
   for (const double value :
        {maintain_sigma_horizontal, maintain_sigma_vertical, maintain_sigma_yaw_deg,
@@ -83,13 +136,14 @@ std::string RegistrationReport::ToJson() const {
       "sigma\":{{{}}},"
       "\"information_eigenvalues\":[{}],\"correction\":{{\"translation\":[{:.4f},{:.4f},{:.4f}],"
       "\"angle_deg\":{:.4f}}},\"candidate\":{{\"translation\":[{:.4f},{:.4f},{:.4f}],"
-      "\"rotation_xyzw\":[{:.6f},{:.6f},{:.6f},{:.6f}]}},\"reason\":\"{}\"}}",
+      "\"rotation_xyzw\":[{:.6f},{:.6f},{:.6f},{:.6f}]}},\"fusion\":{},\"reason\":\"{}\"}}",
       keyframe_id, maintenance, applied, MapLockName(lock_after), result.points, result.inliers,
       JsonNumber(result.inlier_ratio, 4), JsonNumber(result.rms, 4),
       JsonNumber(result.whitened_rms, 3), JsonNumber(result.margin, 3), result.hypotheses, dofs,
       sigmas, eigenvalues, t.x(), t.y(), t.z(),
       RotationAngle(result.map_from_world.rotation, Eigen::Quaterniond::Identity()) / kDegree,
-      ct.x(), ct.y(), ct.z(), cq.x(), cq.y(), cq.z(), cq.w(), result.reason);
+      ct.x(), ct.y(), ct.z(), cq.x(), cq.y(), cq.z(), cq.w(),
+      fusion ? fusion->ToJson() : std::string("null"), result.reason);
 }
 
 MapLocker::MapLocker(const PlaneMap& planes, const MapLockOptions& options, const StartPrior& start,
@@ -251,66 +305,72 @@ std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLo
   if (job.segment != segment_) return std::nullopt;  // a loss since: its frame is gone
   report.maintenance = job.maintenance;
   std::optional<MapCorrection> correction;
+  const MapLock found = report.result.lock;
+  if (found == MapLock::kSearching) return std::make_pair(report, correction);
+  // A partial result never downgrades a partial lock; a full one completes any. While locked,
+  // only a re-registration can correct.
+  const bool worth_applying =
+      job.maintenance ? state_ == MapLock::kLocked
+                      : (found == MapLock::kLocked && state_ != MapLock::kLocked) ||
+                            (found == MapLock::kPartial && state_ == MapLock::kSearching);
+  if (!worth_applying) return std::make_pair(report, correction);
+
+  // The registration is evidence about the camera's pose; the job's prior is what the run knows
+  // of it (the start prior grown with the distance driven, or what a partial lock left).
+  const Matrix6d current =
+      PriorCovarianceAtCamera(job.prior, report.result.camera_in_world, report.result.vehicle_axes);
+  report.fusion = FuseRegistration(report.result, current, options_.max_correction_sigmas,
+                                   options_.min_correction_sigmas);
+  const FusedCorrection& fusion = *report.fusion;
+  if (!fusion.accepted) {
+    report.result.reason = fmt::format(
+        "refused: {:.1f} sigma from the current estimate in {} (limit {:.1f})", fusion.worst_sigmas,
+        RegistrationDofName(fusion.worst_dof), options_.max_correction_sigmas);
+    return std::make_pair(report, correction);
+  }
   if (job.maintenance) {
-    if (state_ != MapLock::kLocked || report.result.lock == MapLock::kSearching) {
-      return std::make_pair(report, correction);
-    }
-    if (!SignificantRecorrection(report.result, job.world_from_camera)) {
+    if (!SignificantRecorrection(report.result, fusion)) {
       report.result.reason = "consistent with the map (below the re-correction threshold)";
       return std::make_pair(report, correction);
     }
-    correction = MapCorrection{report.result.map_from_world, job.first_keyframe_id,
-                               report.result.camera_position_covariance, /*recorrection=*/true};
+    correction = MapCorrection{fusion.map_from_world, job.first_keyframe_id,
+                               fusion.camera_position_covariance, /*recorrection=*/true};
     report.applied = true;
     return std::make_pair(report, correction);
   }
-  const MapLock found = report.result.lock;
-  // A partial result never downgrades a partial lock; a full one completes any.
-  const bool improves =
-      (found == MapLock::kLocked) || (found == MapLock::kPartial && state_ == MapLock::kSearching);
-  if (improves) {
-    correction = MapCorrection{report.result.map_from_world, segment_first_keyframe_,
-                               report.result.camera_position_covariance};
-    state_ = found;
-    report.lock_after = found;
-    report.applied = true;
-    keyframes_since_attempt_ = 0;
-    if (found == MapLock::kPartial) {
-      // Next attempt: the registered DoF are known; along-track keeps its prior, now pivoted at
-      // the camera (in the corrected frame).
-      const Rigid3d& correction_transform = report.result.map_from_world;
-      const Eigen::Vector3d camera = correction_transform * job.world_from_camera.translation;
-      const double driven = (job.world_from_camera.translation - pivot_in_world_).norm();
-      sigma_along_ = std::hypot(sigma_along_, options_.drift_fraction * driven);
-      sigma_lateral_ = options_.partial_sigma_lateral;
-      sigma_vertical_ = options_.partial_sigma_vertical;
-      sigma_yaw_ = options_.partial_sigma_yaw_deg * kDegree;
-      pivot_in_world_ = camera;
-      forward_in_world_ = correction_transform.rotation *
-                          (job.world_from_camera.rotation * Eigen::Vector3d::UnitZ());
-      up_in_world_ = correction_transform.rotation * up_in_world_;
-    }
+  correction = MapCorrection{fusion.map_from_world, segment_first_keyframe_,
+                             fusion.camera_position_covariance};
+  state_ = found;
+  report.lock_after = found;
+  report.applied = true;
+  keyframes_since_attempt_ = 0;
+  if (found == MapLock::kPartial) {
+    // Next attempt: the registered DoF are known; along-track keeps its prior, now pivoted at
+    // the camera (in the corrected frame).
+    const Rigid3d& correction_transform = fusion.map_from_world;
+    const Eigen::Vector3d camera = correction_transform * job.world_from_camera.translation;
+    const double driven = (job.world_from_camera.translation - pivot_in_world_).norm();
+    sigma_along_ = std::hypot(sigma_along_, options_.drift_fraction * driven);
+    sigma_lateral_ = options_.partial_sigma_lateral;
+    sigma_vertical_ = options_.partial_sigma_vertical;
+    sigma_yaw_ = options_.partial_sigma_yaw_deg * kDegree;
+    pivot_in_world_ = camera;
+    forward_in_world_ =
+        correction_transform.rotation * (job.world_from_camera.rotation * Eigen::Vector3d::UnitZ());
+    up_in_world_ = correction_transform.rotation * up_in_world_;
   }
   return std::make_pair(report, correction);
 }
 
 bool MapLocker::SignificantRecorrection(const RegistrationResult& result,
-                                        const Rigid3d& world_from_camera) const {
-  const Eigen::Vector3d camera = world_from_camera.translation;
-  const Eigen::Vector3d moved = result.map_from_world * camera - camera;
-  const Eigen::Vector3d up = up_in_world_.normalized();
-  Eigen::Vector3d along = world_from_camera.rotation * Eigen::Vector3d::UnitZ();
-  along = (along - along.dot(up) * up).normalized();
-  const Eigen::Vector3d axes[3] = {along, up.cross(along), up};  // kAlongTrack, kLateral, ...
+                                        const FusedCorrection& fusion) const {
   for (int dof = kAlongTrack; dof <= kVertical; ++dof) {
-    if (!result.constrained[dof]) continue;
+    if (!fusion.registered_dofs[dof]) continue;
     const double threshold =
         std::max(options_.min_recorrection, options_.recorrection_sigmas * result.dof_sigma[dof]);
-    if (std::abs(moved.dot(axes[dof])) > threshold) return true;
+    if (std::abs(fusion.applied(dof)) > threshold) return true;
   }
-  const double angle =
-      RotationAngle(result.map_from_world.rotation, Eigen::Quaterniond::Identity());
-  return angle > options_.min_recorrection_deg * kDegree;
+  return fusion.applied.tail<3>().norm() > options_.min_recorrection_deg * kDegree;
 }
 
 void MapLocker::OnLoss(const Rigid3d& world_from_cam, int next_keyframe_id) {

@@ -24,6 +24,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
+#include "planeloc/tracking/lock_fusion.h"
 #include "planeloc/tracking/map.h"
 #include "planeloc/tracking/map_registration.h"
 
@@ -37,8 +38,18 @@ struct StartPrior {
   bool Exact() const {
     return sigma_horizontal == 0.0 && sigma_vertical == 0.0 && sigma_yaw_deg == 0.0;
   }
-  void Check() const;  // throws OptionsError: finite and >= 0
+  // What the registration can search at its grid's resolution (+-3 sigma): 200 shift cells of
+  // 0.31 m, vertical bins of 5 cm, 91 headings of 1 degree. Wider priors are refused.
+  static constexpr double kMaxSigmaHorizontal = 10.0;  // metres
+  static constexpr double kMaxSigmaVertical = 2.0;     // metres
+  static constexpr double kMaxSigmaYawDeg = 15.0;      // degrees
+  void Check() const;  // throws OptionsError: finite, >= 0 and within the maxima
 };
+
+// A warning when the plane map cannot resolve the start prior: the start is far from every plane
+// of the map (outside the mapped area), or the prior is wider than the map. Empty otherwise.
+std::string StartPriorWarning(const PlaneMap& planes, const Eigen::Vector3d& start_position,
+                              const StartPrior& prior);
 
 struct MapLockOptions {
   MapRegistrationOptions registration;
@@ -79,6 +90,12 @@ struct MapLockOptions {
   double min_recorrection = 0.15;    // metres
   double recorrection_sigmas = 1.5;  // of the (inflated, see noise_inflation) DoF sigma
   double min_recorrection_deg = 1.0;
+  // A registration is evidence fused with the current pose (tracking/lock_fusion.h); one whose
+  // innovation exceeds this many standard deviations in a registered DoF is refused.
+  double max_correction_sigmas = 3.0;
+  // ... and a registered DoF whose change is within this many of the registration's own sigmas
+  // keeps the current estimate (the window BA's plane residuals refine it without a jump).
+  double min_correction_sigmas = 1.5;
   void Check() const;
 };
 
@@ -101,6 +118,7 @@ struct RegistrationReport {
   bool maintenance = false;  // a re-registration while locked
   bool applied = false;      // its correction was applied
   RegistrationResult result;
+  std::optional<FusedCorrection> fusion;  // when the result was a lock worth applying
   std::string ToJson() const;
 };
 
@@ -145,7 +163,7 @@ class MapLocker {
   RegistrationPrior CurrentPrior(const Eigen::Vector3d& camera_in_world) const;
   // Whether a re-registration's correction is beyond what the window BA pulls back.
   bool SignificantRecorrection(const RegistrationResult& result,
-                               const Rigid3d& world_from_camera) const;
+                               const FusedCorrection& fusion) const;
   void Run(std::stop_token stop);
   std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> Finish(Job job);
 

@@ -471,6 +471,22 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
   to_camera.topRightCorner<3, 3>() = -Hat(best.rotation * (camera - c));
   const Matrix6d covariance =
       to_camera * RegularizedCovariance(best.information) * to_camera.transpose();
+  // The same change of pivot for the information (x_camera = to_camera x_pivot), then the
+  // vehicle axes; and the best hypothesis as a camera shift and a rotation in those axes.
+  Matrix6d from_camera = Matrix6d::Identity();
+  from_camera.topRightCorner<3, 3>() = Hat(best.rotation * (camera - c));
+  result.vehicle_axes.row(0) = axes.along.transpose();
+  result.vehicle_axes.row(1) = axes.lateral.transpose();
+  result.vehicle_axes.row(2) = axes.up.transpose();
+  Matrix6d to_vehicle = Matrix6d::Zero();
+  to_vehicle.topLeftCorner<3, 3>() = result.vehicle_axes;
+  to_vehicle.bottomRightCorner<3, 3>() = result.vehicle_axes;
+  result.information_at_camera = to_vehicle * from_camera.transpose() * best.information *
+                                 from_camera * to_vehicle.transpose();
+  result.camera_in_world = camera;
+  result.correction_at_camera.head<3>() =
+      result.vehicle_axes * (best.rotation * (camera - c) + c + best.shift - camera);
+  result.correction_at_camera.tail<3>() = result.vehicle_axes * LogSO3(best.rotation);
   result.camera_position_covariance = covariance.topLeftCorner<3, 3>();
   const Eigen::Vector3d named[kNumDofs] = {axes.along, axes.lateral, axes.up,
                                            axes.along, axes.lateral, axes.up};

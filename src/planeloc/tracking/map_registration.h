@@ -131,8 +131,16 @@ struct RegistrationResult {
   // information; an unobserved direction gets a large (regularized, ~100 m) variance.
   Eigen::Matrix3d camera_position_covariance = Eigen::Matrix3d::Identity() * 1e4;
   Vector6d information_eigenvalues = Vector6d::Zero();  // metric units (rotation x 10 m)
-  int points = 0;                                       // structure points used
-  int inliers = 0;                                      // of the best hypothesis
+  // The best hypothesis at the current camera (tracking/lock_fusion.h), whether accepted or not:
+  // the camera's shift (metres) and the rotation vector (radians) in the vehicle axes at the
+  // camera, the rows of `vehicle_axes` (along-track, lateral, up; map axes), with the
+  // point-to-plane information of the same coordinates (inflated noise, no prior).
+  Vector6d correction_at_camera = Vector6d::Zero();
+  Matrix6d information_at_camera = Matrix6d::Zero();
+  Eigen::Matrix3d vehicle_axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d camera_in_world = Eigen::Vector3d::Zero();
+  int points = 0;   // structure points used
+  int inliers = 0;  // of the best hypothesis
   double inlier_ratio = 0;
   double rms = 0;           // metres, inliers' point-to-plane distances
   double whitened_rms = 0;  // the same, each divided by its point's sigma

@@ -212,6 +212,16 @@ StartPrior ParseInitSigma(const std::string& text) {
              "metres vertical, degrees of heading), got \"" +
                  text + "\"",
              "pass e.g. --init-sigma \"2 0.5 5\" (a GNSS-like start) or \"0 0 0\" (exact start)");
+  const bool searchable = v[0] <= StartPrior::kMaxSigmaHorizontal &&
+                          v[1] <= StartPrior::kMaxSigmaVertical &&
+                          v[2] <= StartPrior::kMaxSigmaYawDeg;
+  CheckInput(searchable, "--init-sigma", 0,
+             fmt::format("\"{}\" is beyond what the map registration can search: S_XY <= {} m, "
+                         "S_Z <= {} m, S_YAW_DEG <= {} deg",
+                         text, StartPrior::kMaxSigmaHorizontal, StartPrior::kMaxSigmaVertical,
+                         StartPrior::kMaxSigmaYawDeg),
+             "give the start within those bounds (e.g. from GNSS), or \"0 0 0\" for an exact "
+             "start");
   prior.sigma_horizontal = v[0];
   prior.sigma_vertical = v[1];
   prior.sigma_yaw_deg = v[2];
@@ -272,6 +282,11 @@ RunSummary RunSequence(const RunOptions& run) {
           "{:.3f}]",
           run.planes_path->string(), t.x(), t.y(), t.z());
     }
+  }
+  if (plane_map) {
+    const std::string warning =
+        StartPriorWarning(*plane_map, run.world_from_cam_initial.translation, run.start_prior);
+    if (!warning.empty()) spdlog::warn("{}", warning);
   }
   std::optional<SettingsFile> settings = ReadSettings(run);
   std::shared_ptr<const StereoSource> source = run.source;

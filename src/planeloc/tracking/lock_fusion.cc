@@ -1,0 +1,164 @@
+#include "planeloc/tracking/lock_fusion.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace planeloc {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Added to a covariance's diagonal before inverting it: a DoF declared exact (sigma 0) becomes a
+// very stiff one instead of a singular matrix.
+constexpr double kExactVariance = 1e-10;
+
+Matrix6d BlockDiagonal(const Eigen::Matrix3d& a) {
+  Matrix6d b = Matrix6d::Zero();
+  b.topLeftCorner<3, 3>() = a;
+  b.bottomRightCorner<3, 3>() = a;
+  return b;
+}
+
+std::string JsonNumber(double value, int digits) {
+  return std::isfinite(value) ? fmt::format("{:.{}f}", value, digits) : std::string("null");
+}
+
+}  // namespace
+
+Matrix6d PriorCovarianceAtCamera(const RegistrationPrior& prior,
+                                 const Eigen::Vector3d& camera_in_world,
+                                 const Eigen::Matrix3d& vehicle_axes) {
+  // A change (d_shift, d_omega) of the correction about the pivot moves the camera by
+  // d_shift + d_omega x (camera - pivot).
+  Matrix6d to_camera = Matrix6d::Identity();
+  to_camera.topRightCorner<3, 3>() = -Hat(camera_in_world - prior.pivot_in_world);
+  const Matrix6d axes = BlockDiagonal(vehicle_axes);
+  return axes * to_camera * prior.covariance * to_camera.transpose() * axes.transpose();
+}
+
+namespace {
+
+// Steps 1 and 2 for the DoF in `observed` (the others held at zero): the restricted registration
+// estimate, its covariance, and the information-weighted mean with the current estimate.
+struct Restricted {
+  Eigen::VectorXd estimate, applied;
+  Eigen::MatrixXd registration_covariance, current_conditional;
+};
+
+Restricted RestrictAndFuse(const Matrix6d& information, const Vector6d& z,
+                           const Matrix6d& current_information, const std::vector<int>& observed,
+                           const std::vector<int>& held) {
+  Restricted out;
+  const Eigen::MatrixXd info_oo = information(observed, observed);
+  const Eigen::LDLT<Eigen::MatrixXd> info_oo_ldlt(info_oo);
+  const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(info_oo.rows(), info_oo.cols());
+  // The registration's estimate of the observed DoF with the held ones kept where they are.
+  out.estimate = z(observed);
+  if (!held.empty()) out.estimate += info_oo_ldlt.solve(information(observed, held) * z(held));
+  out.registration_covariance = info_oo_ldlt.solve(identity);
+  const Eigen::MatrixXd current_info_oo = current_information(observed, observed);
+  // The current estimate's covariance of the observed DoF given the held ones.
+  out.current_conditional = current_info_oo.ldlt().solve(identity);
+  // Information-weighted mean of the restricted estimate and the current one (zero).
+  out.applied = (info_oo + current_info_oo).ldlt().solve(info_oo * out.estimate);
+  return out;
+}
+
+}  // namespace
+
+FusedCorrection FuseRegistration(const RegistrationResult& result,
+                                 const Matrix6d& current_covariance, double max_sigmas,
+                                 double min_sigmas) {
+  FusedCorrection fused;
+  fused.innovation_sigma.setConstant(kInf);
+  std::vector<int> observed, unobserved;
+  for (int dof = 0; dof < kNumDofs; ++dof) {
+    fused.registered_dofs[dof] = result.constrained[dof];
+    (result.constrained[dof] ? observed : unobserved).push_back(dof);
+  }
+  if (observed.empty()) return fused;
+
+  const Matrix6d& information = result.information_at_camera;
+  const Vector6d& z = result.correction_at_camera;
+  Matrix6d current = current_covariance;
+  current.diagonal().array() += kExactVariance;
+  const Matrix6d current_information = current.ldlt().solve(Matrix6d::Identity());
+
+  const Restricted all = RestrictAndFuse(information, z, current_information, observed, unobserved);
+  const Eigen::MatrixXd innovation_covariance =
+      all.registration_covariance + all.current_conditional;
+  fused.worst_sigmas = 0;
+  std::vector<int> changed, held = unobserved;
+  for (std::size_t k = 0; k < observed.size(); ++k) {
+    const int dof = observed[k];
+    fused.registered(dof) = all.estimate(k);
+    fused.innovation_sigma(dof) = std::sqrt(std::max(0.0, innovation_covariance(k, k)));
+    const double sigmas = std::abs(all.estimate(k)) / fused.innovation_sigma(dof);
+    if (!(sigmas <= fused.worst_sigmas)) {
+      fused.worst_sigmas = sigmas;
+      fused.worst_dof = dof;
+    }
+    const double own_sigma = std::sqrt(std::max(0.0, all.registration_covariance(k, k)));
+    (std::abs(all.estimate(k)) > min_sigmas * own_sigma ? changed : held).push_back(dof);
+  }
+  fused.accepted = fused.worst_sigmas <= max_sigmas;
+
+  if (!changed.empty()) {
+    std::sort(held.begin(), held.end());
+    const Restricted significant =
+        changed.size() == observed.size()
+            ? all
+            : RestrictAndFuse(information, z, current_information, changed, held);
+    for (std::size_t k = 0; k < changed.size(); ++k) {
+      fused.changed_dofs[changed[k]] = true;
+      fused.applied(changed[k]) = significant.applied(k);
+    }
+  }
+
+  // Covariance after the fusion: the registration's information on every observed DoF (a held
+  // DoF was confirmed, not ignored).
+  Matrix6d posterior_information = current_information;
+  posterior_information(observed, observed) += information(observed, observed);
+  const Matrix6d posterior = posterior_information.ldlt().solve(Matrix6d::Identity());
+  const Eigen::Matrix3d& axes = result.vehicle_axes;
+  fused.camera_position_covariance = axes.transpose() * posterior.topLeftCorner<3, 3>() * axes;
+
+  const Eigen::Vector3d shift = axes.transpose() * fused.applied.head<3>();
+  const Eigen::Matrix3d rotation = ExpSO3(axes.transpose() * fused.applied.tail<3>());
+  const Eigen::Vector3d& camera = result.camera_in_world;
+  fused.map_from_world = Rigid3d(rotation, camera + shift - rotation * camera);
+  return fused;
+}
+
+std::string FusedCorrection::ToJson() const {
+  std::string registered_json, applied_json, sigma_json, changed_json;
+  for (int dof = 0; dof < kNumDofs; ++dof) {
+    // Metres for the shifts, degrees for the angles.
+    const double unit = dof < 3 ? 1.0 : 1.0 / kDegree;
+    const char* separator = dof ? "," : "";
+    registered_json += fmt::format("{}\"{}\":{}", separator, RegistrationDofName(dof),
+                                   JsonNumber(registered(dof) * unit, 5));
+    applied_json += fmt::format("{}\"{}\":{}", separator, RegistrationDofName(dof),
+                                JsonNumber(applied(dof) * unit, 5));
+    if (changed_dofs[dof]) {
+      changed_json +=
+          fmt::format("{}\"{}\"", changed_json.empty() ? "" : ",", RegistrationDofName(dof));
+    }
+    sigma_json += fmt::format("{}\"{}\":{}", separator, RegistrationDofName(dof),
+                              JsonNumber(innovation_sigma(dof) * unit, 5));
+  }
+  return fmt::format(
+      "{{\"accepted\":{},\"changed\":[{}],\"registered\":{{{}}},\"applied\":{{{}}},\"innovation_"
+      "sigma\":{{{}}},\"worst_sigmas\":{},"
+      "\"worst_dof\":\"{}\"}}",
+      accepted, changed_json, registered_json, applied_json, sigma_json,
+      JsonNumber(worst_sigmas, 3), worst_dof >= 0 ? RegistrationDofName(worst_dof) : "none");
+}
+
+}  // namespace planeloc
