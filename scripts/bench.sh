@@ -2,14 +2,17 @@
 # Builds Release, runs every benchmark and rewrites docs/benchmarks.md (issue 12 item 4).
 #
 # Usage: scripts/bench.sh [--quick] [--fresh] [--no-build] [--drives "PRESET:SEED,... ..."]
-#                         [--no-robustness]
+#                         [--no-robustness] [--no-map-lock]
 #   --quick     under 5 minutes on a 2-core machine: the simulator's `tiny` drive (one seed) and a
 #               subset of the Google Benchmark programs with short minimum times
 #   (default)   every benchmark; `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2 (about an
 #               hour, most of it kitti07-like's simulation and plane map, cached for later runs);
 #               and issue 10's table of wrong plane maps and the ablation (33 minutes on 2
 #               cores when its drives and maps are made first, 2026-12-03)
+#               and issue 30's default start (the default prior from the exact start on tiny, small
+#               and kitti07-like drives, 20 draws from it on small 3, 11, 21)
 #   --no-robustness  the full mode without the wrong maps and the ablation
+#   --no-map-lock    the full mode without issue 30's default-start runs
 #   --fresh     remake the cached simulator drives and plane maps (build/bench/data/)
 #   --no-build  use the binaries in the build folder as they are
 #   --drives    other simulated drives than the mode's, e.g. "small:3 kitti07-like:1" (the page
@@ -29,6 +32,7 @@ while [ $# -gt 0 ]; do
     --no-build) build=0; shift ;;
     --drives) run_args+=(--drives "$2"); shift 2 ;;
     --no-robustness) run_args+=(--no-robustness); shift ;;
+    --no-map-lock) run_args+=(--no-map-lock); shift ;;
     -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1' "$0"; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac

@@ -36,6 +36,7 @@ import os
 import re
 import sys
 
+import bench_report_map_lock
 import bench_report_wrong_maps
 from bench_format import cell, code, mean_or_none, num, ratio, spread, table
 
@@ -91,14 +92,15 @@ def load(results):
             raise ReportError(f"{path}: {e} (run scripts/bench.sh first)") from e
     out["gbench"] = load_gbench(results)
     out["results"] = results
-    path = os.path.join(results, "robustness.json")  # full mode only
-    out["robustness"] = None
-    if os.path.exists(path):
-        try:
-            with open(path) as f:
-                out["robustness"] = json.load(f)
-        except (OSError, ValueError) as e:
-            raise ReportError(f"{path}: {e}") from e
+    for key, name in (("robustness", "robustness.json"), ("map_lock", "maplock.json")):
+        path = os.path.join(results, name)  # full mode only
+        out[key] = None
+        if os.path.exists(path):
+            try:
+                with open(path) as f:
+                    out[key] = json.load(f)
+            except (OSError, ValueError) as e:
+                raise ReportError(f"{path}: {e}") from e
     return out
 
 
@@ -476,6 +478,8 @@ def render(data):
                  "r_rel (°/100 m)", "ratio to VO", "measured"], accuracy(data, tag)))
     if data.get("robustness"):
         parts.append(bench_report_wrong_maps.section(data, tag))
+    if data.get("map_lock"):
+        parts.append(bench_report_map_lock.section(data, tag))
     parts.append(
         "## Processes of the pipeline: time and peak RSS\n\n"
         "Peak RSS: `ru_maxrss` of the process (wait4). Simulator and map steps are cached under "

@@ -15,6 +15,9 @@ docs/benchmarks.md. Writes, under --out (build/bench by default):
                  the plane map, wrong copies of it, a map from noisy poses (as it is and refined
                  by `map refine-poses`), the oracle map and no map (scripts/bench_wrong_map.sh); the ablation of ABLATION_VARIANTS on
                  ABLATION_DRIVE (scripts/bench_ablation.sh)
+  maplock.json   full mode only, issue 30: rows of scripts/bench_map_lock.py, the default prior
+                 from the exact start on MAP_LOCK_EXACT_DRIVES and draws from the prior on
+                 MAP_LOCK_DRAW_DRIVES
   data/<preset>-<seed>/  simulator output, map.pcd, planes.json (reused by later runs; --fresh
                  rebuilds them) and steps.json (how they were made: commands, wall time, peak RSS);
                  the wrong maps and the runs on them (wrong-map/, abl-<variant>/)
@@ -27,6 +30,7 @@ kitti07-like seeds 1, 2 (about an hour, most of it kitti07-like's simulation and
 
 Usage: scripts/bench_run.py [--build build] [--out BUILD/bench] [--quick] [--fresh]
                             [--drives "small:3,11,21 kitti07-like:1"] [--no-robustness]
+                            [--no-map-lock]
 --drives replaces the mode's drives (the benchmarks stay the mode's); the page then says so.
 """
 import argparse
@@ -61,6 +65,14 @@ ABLATION_DRIVE = ("small", [3, 11, 21])
 ABLATION_KINDS = ["clean", "move0.2"]
 ABLATION_VARIANTS = ["default", "lambda1", "lambda0.8", "lambda0.2", "creasegate", "fixedwindow",
                      "oldgate", "noconsensus"]
+
+# Issue 30's acceptance benchmark (full mode, scripts/bench_map_lock.py): the default prior from
+# the exact start on every drive (seeds 41, 43 and 47 are used by no test and no tuning), and
+# start poses drawn from the prior on the bench's small drives.
+MAP_LOCK_EXACT_DRIVES = [("tiny", [3, 5, 11, 21, 41, 43, 47]), ("small", [3, 11, 21, 41, 43, 47]),
+                         ("kitti07-like", [1, 2])]
+MAP_LOCK_DRAW_DRIVES = [("small", [3, 11, 21])]
+MAP_LOCK_DRAWS = 20
 
 # Runs of `planeloc run` per drive: (name, plane map?, --deterministic?, settings file).
 RUNS = [
@@ -381,6 +393,30 @@ def run_robustness(planeloc, data_dir, prepared, fresh):
     return {"kinds": WRONG_MAP_KINDS, "wrong_maps": wrong_maps, "ablation": ablation}
 
 
+def run_map_lock(planeloc, data_dir, prepared, fresh):
+    """Issue 30: rows of scripts/bench_map_lock.py over MAP_LOCK_EXACT_DRIVES (exact start) and
+    MAP_LOCK_DRAW_DRIVES (draws from the prior)."""
+    rows = []
+    plan = [(preset, seeds, 0, True) for preset, seeds in MAP_LOCK_EXACT_DRIVES]
+    plan += [(preset, seeds, MAP_LOCK_DRAWS, False) for preset, seeds in MAP_LOCK_DRAW_DRIVES]
+    for preset, seeds, draws, exact in plan:
+        for seed in seeds:
+            if (preset, seed) not in prepared:
+                prepare_drive(planeloc, data_dir, preset, seed, fresh)
+                prepared.add((preset, seed))
+        out = os.path.join(data_dir, f"maplock-{preset}-{draws}.json")
+        cmd = [sys.executable, os.path.join(ROOT, "scripts", "bench_map_lock.py"), "--planeloc",
+               planeloc, "--work", data_dir, "--preset", preset, "--seeds",
+               *map(str, seeds), "--draws", str(draws), "--json", out]
+        if exact:
+            cmd.append("--exact-start")
+        print(f"--- {preset} seeds {seeds}: map lock, {draws} draws", flush=True)
+        run_measured(cmd, os.path.join(data_dir, f"maplock-{preset}-{draws}.log"))
+        with open(out) as f:
+            rows += json.load(f)["rows"]
+    return {"draws_per_seed": MAP_LOCK_DRAWS, "rows": rows}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--build", default=os.environ.get("PLANELOC_BUILD_DIR",
@@ -390,6 +426,8 @@ def main():
     parser.add_argument("--fresh", action="store_true", help="remake the cached drives")
     parser.add_argument("--no-robustness", action="store_true",
                         help="full mode without the wrong-map and ablation runs (issue 10)")
+    parser.add_argument("--no-map-lock", action="store_true",
+                        help="full mode without the default-start runs (issue 30)")
     parser.add_argument("--drives", type=parse_drives,
                         help='instead of the mode\'s drives, e.g. "small:3,11,21 kitti07-like:1"')
     args = parser.parse_args()
@@ -400,7 +438,7 @@ def main():
     data_dir = os.path.join(out, "data")
     os.makedirs(out, exist_ok=True)
     # A failed run leaves no old results behind.
-    for stale in ("meta.json", "pipeline.json", "robustness.json"):
+    for stale in ("meta.json", "pipeline.json", "robustness.json", "maplock.json"):
         if os.path.exists(os.path.join(out, stale)):
             os.remove(os.path.join(out, stale))
     shutil.rmtree(os.path.join(out, "gbench"), ignore_errors=True)
@@ -421,10 +459,12 @@ def main():
                 drives.append(drive)
                 runs += run_drive(planeloc, drive, out)
         pipeline = {"drives": drives, "runs": runs}
-        robustness = None
+        robustness = map_lock = None
+        prepared = {(d["preset"], d["seed"]) for d in drives}
         if not args.quick and not args.no_robustness:
-            robustness = run_robustness(planeloc, data_dir,
-                                        {(d["preset"], d["seed"]) for d in drives}, args.fresh)
+            robustness = run_robustness(planeloc, data_dir, prepared, args.fresh)
+        if not args.quick and not args.no_map_lock:
+            map_lock = run_map_lock(planeloc, data_dir, prepared, args.fresh)
         meta["gbench"] = run_gbench(bin_dir, out, args.quick, data_dir)
     except BenchError as e:
         print(f"bench_run.py: {e}", file=sys.stderr)
@@ -437,6 +477,9 @@ def main():
     if robustness is not None:
         with open(os.path.join(out, "robustness.json"), "w") as f:
             json.dump(robustness, f, indent=1)
+    if map_lock is not None:
+        with open(os.path.join(out, "maplock.json"), "w") as f:
+            json.dump(map_lock, f, indent=1)
     with open(os.path.join(out, "meta.json"), "w") as f:
         json.dump(meta, f, indent=1)
     print(f"results in {rel(out)} ({meta['wall_s']:.0f} s)")

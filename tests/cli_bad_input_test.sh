@@ -126,8 +126,9 @@ expect_error "map planes non-finite voxel" "voxel" -- \
 expect_error "map build missing sequence" "$work/noseq" -- \
   "$planeloc" map build --sequence "$work/noseq" --poses "$work/gt.txt" --out "$work/m.pcd"
 
-# run --init-sigma and initial poses (issue 9): the option or file (and line) named.
-for sigma in "2 0.5" "2 -0.5 5" "2 nan 5" "a b c"; do
+# run --init-sigma and initial poses (issue 9): the option or file (and line) named. Beyond the
+# registration's search range (issue 30: "0 1e9 0" was an internal error, "2 1e6 5" took 1 GB).
+for sigma in "2 0.5" "2 -0.5 5" "2 nan 5" "a b c" "0 1e9 0" "2 1e6 5" "11 0.5 5" "2 0.5 16"; do
   expect_error "run --init-sigma '$sigma'" "--init-sigma" -- \
     "$planeloc" run --sequence "$work/nope" --planes "$work/nope.json" --init-sigma "$sigma" \
     --init-pose "1 0 0 0 0 1 0 0 0 0 1 0" --out "$work/t.txt"

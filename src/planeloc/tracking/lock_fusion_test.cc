@@ -112,10 +112,12 @@ TEST(LockFusionTest, AChangeWithinTheRegistrationsOwnNoiseIsHeld) {
   }
 }
 
-TEST(LockFusionTest, RestrictionConditionsOnTheUnobservedDof) {
+TEST(LockFusionTest, CoupledDofTakeTheRegistrationsMarginal) {
   // Along-track and pitch coupled (a plane seen at an angle): information [[1, 2], [2, 8]] on
-  // (along, pitch), along-track not registered. Holding along at 0 instead of its proposed 1.0
-  // shifts the pitch estimate by I_pp^-1 I_pa z_along = 2/8 * 1.0.
+  // (along, pitch), along-track not registered and proposed at 1.0 m (a value the search prior
+  // set). The pitch estimate is the proposal itself, 0.01, not shifted through the coupling; its
+  // variance is the marginal 1 / (8 - 2 * 2 / 1) = 0.25 (not the conditional 1/8). Against a
+  // current pitch variance of 0.25 the fused pitch is half of it: 0.005 (0.0067 with 1/8).
   RegistrationResult result;
   result.constrained.fill(true);
   result.constrained[kAlongTrack] = false;
@@ -126,11 +128,12 @@ TEST(LockFusionTest, RestrictionConditionsOnTheUnobservedDof) {
   result.information_at_camera(kPitch, kAlongTrack) = 2.0;
   result.correction_at_camera(kAlongTrack) = 1.0;
   result.correction_at_camera(kPitch) = 0.01;
-  // A vague current estimate (100 m, 100 rad): the registration decides.
-  const FusedCorrection fused = FuseRegistration(result, Matrix6d::Identity() * 1e4, 3.0, 0.0);
-  EXPECT_NEAR(fused.registered(kPitch), 0.01 + 0.25, 1e-9);
+  Matrix6d current = Matrix6d::Identity() * 1e4;  // 100 m, 100 rad: no knowledge ...
+  current(kPitch, kPitch) = 0.25;                 // ... but of pitch
+  const FusedCorrection fused = FuseRegistration(result, current, 3.0, 0.0);
+  EXPECT_NEAR(fused.registered(kPitch), 0.01, 1e-12);
   EXPECT_EQ(fused.applied(kAlongTrack), 0.0);
-  EXPECT_NEAR(fused.applied(kPitch), 0.26, 1e-3);
+  EXPECT_NEAR(fused.applied(kPitch), 0.005, 1e-5);
 }
 
 TEST(LockFusionTest, HeadingUncertaintyAtThePivotIsLateralAtTheCamera) {

@@ -668,6 +668,16 @@ void Tracker::ApplyLockResults(FrameStats& stats, Frame* current, bool wait) {
 void Tracker::ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id,
                               bool from_lock) {
   const Rigid3d& map_from_world = correction.map_from_world;
+  // A lock that confirms the current estimate (every registered DoF held, tracking/lock_fusion.h)
+  // moves nothing: BA results and crease checks in flight stay valid.
+  const bool moves =
+      !(map_from_world.translation.isZero(0.0) && map_from_world.rotation.vec().isZero(0.0));
+  if (moves) MoveSegment(correction, current);
+  if (from_lock) LockBookkeeping(correction, frame_id);
+}
+
+void Tracker::MoveSegment(const MapCorrection& correction, Frame* current) {
+  const Rigid3d& map_from_world = correction.map_from_world;
   const Rigid3d world_from_map = map_from_world.Inverse();
   for (const auto& [kf_id, keyframe] : map_.keyframes()) {
     if (kf_id < correction.first_keyframe_id) continue;
@@ -686,7 +696,10 @@ void Tracker::ApplyCorrection(const MapCorrection& correction, Frame* current, i
   if (last_frame_) last_frame_->cam_from_world = last_frame_->cam_from_world * world_from_map;
   if (current) current->cam_from_world = current->cam_from_world * world_from_map;
   ++correction_epoch_;
-  if (!from_lock) return;
+}
+
+void Tracker::LockBookkeeping(const MapCorrection& correction, int frame_id) {
+  const Rigid3d& map_from_world = correction.map_from_world;
   if (planes_) {
     // Until the window BA has pulled the trajectory onto the planes, a plane's points may sit off
     // it by the lock's own error: that is no evidence against the plane.

@@ -187,6 +187,10 @@ class Tracker {
   // offset the planes agreed on).
   void ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id,
                        bool from_lock = true);
+  // Moves the keyframes and points of the correction's segment, the last and current frame.
+  void MoveSegment(const MapCorrection& correction, Frame* current);
+  // The settling after a lock (bias statistics restarted, the lock's covariance) and its event.
+  void LockBookkeeping(const MapCorrection& correction, int frame_id);
   Rigid3d PredictPose() const;
   double CloseDepth() const { return options_.close_depth_baselines * camera_.baseline; }
 
