@@ -6,10 +6,11 @@
 // in metres, rotations in radians about the same axes), so that "a direction the planes do not
 // observe" is one coordinate:
 //  1. Restriction: the unobserved DoF (RegistrationResult::constrained false) keep the current
-//     estimate. The registered DoF take the registration's estimate conditioned on that, i.e. the
-//     minimum of its information form with the unobserved coordinates held at zero.
-//  2. Fusion: the restricted estimate is weighted by its information against the current pose's
-//     covariance (the start prior grown with the distance driven, or what a partial lock left).
+//     estimate. The registered DoF take the registration's own estimate of them with its marginal
+//     covariance (the unobserved DoF as uncertain to it as to the current estimate).
+//  2. Fusion: the restricted estimate and the current one are averaged, weighted by their
+//     covariances (the current: the start prior grown with the distance driven, or what a partial
+//     lock left).
 //  3. Gate: the innovation (restricted estimate minus current estimate) must lie within
 //     `max_sigmas` of its standard deviation sqrt(C_registration + C_current) in every registered
 //     DoF; otherwise the registration is refused.
