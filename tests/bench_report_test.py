@@ -177,6 +177,23 @@ class BenchReportTest(unittest.TestCase):
                                       "0.1200", "1.33"])
         self.assertEqual(self.row("A map that can be wrong", "| default |")[4], "1.00")
 
+    def test_default_start_against_the_bounds(self):
+        # tiny 3: 0.06 / 0.05 = 1.20 (bold above 1.1), below VO 0.08; 2 of 2 corrections within
+        # 3 sigma. small 41: 0.105 / 0.1 = 1.05, above VO 0.1; one of 3 corrections beyond.
+        title = "The default start (issue 30)"
+        self.assertEqual(self.row(title, "| tiny 3 |")[1:9],
+                         ["0.0800", "0.0500", "0.0600", "**1.20**", "yes", "partial", "2 / 2", "0"])
+        self.assertEqual(self.row(title, "| small 41 |")[4:9],
+                         ["1.05", "**no**", "locked", "2 / 3", "2"])
+        self.assertIn("Within 1.1× of the exact start on 1 of 2 drives; at or below VO on 1 of 2.",
+                      self.section(title))
+        # Draws of small 3: 2 locked, 1 wrong; after the lock mean (0.05 + 0.06) / 2 = 0.055,
+        # exact (0.05 + 0.04) / 2 = 0.045; worst ratio 0.06 / 0.04 = 1.50 (one above 1.1); draw 0
+        # above VO (0.2 > 0.1); 3 of 3 corrections within; one run with planes disabled.
+        self.assertEqual(self.row(title, "| small 3 |")[1:11],
+                         ["2", "2 / 2", "1", "0.0550", "0.0450", "**1.50**", "1", "1", "3 / 3",
+                          "1"])
+
     def test_missing_results_fail_cleanly(self):
         with tempfile.TemporaryDirectory() as empty:
             code, stderr, page = generate(empty)
