@@ -148,8 +148,9 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
     if (static_cast<int>(fixed.size()) >= options.ba_max_fixed_keyframes) break;
     fixed.insert(kf_id);
   }
-  const int first_keyframe = map.keyframes().begin()->first;
-  const bool gauge_fixed = !fixed.empty() || local_set.count(first_keyframe);
+  const int first_keyframe = options.ba_fix_first_keyframe ? map.keyframes().begin()->first : -1;
+  const bool gauge_fixed =
+      !fixed.empty() || local_set.count(first_keyframe) || !options.ba_fix_first_keyframe;
 
   WindowProblem problem;
   auto add_keyframe = [&](int kf_id, bool is_fixed) {

@@ -85,6 +85,9 @@ struct TrackerOptions {
   // tracking is weakest, the paper's sliding window "reaches the maximum value".
   int ba_window_keyframes_turn = 20;
   double ba_turn_angle_deg = 15.0;
+  // The first keyframe of the map anchors the gauge (the given initial pose). After a full map
+  // lock the plane map holds all six DoF, and the tracker's first window after it frees it.
+  bool ba_fix_first_keyframe = true;
   // Threaded mode: a BA still running this many frames after it was submitted is waited for at
   // the start of the frame (0 = no bound). When frames come faster than the BA solves (an offline
   // run, the next frame's features extracted in parallel) the results otherwise land later and

@@ -539,7 +539,17 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
   job.keyframe_id = keyframe_id;
   // Before the map lock the planes' frame is unknown: visual BA only.
   const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
-  job.problem = BuildLocalWindow(map_, keyframe_id, options_, camera_,
+  TrackerOptions window_options = options_;
+  if (lock_window_pending_ && planes_active) {
+    // The lock left the trajectory off by the registration's error, anchors included: one
+    // window over the segment, every keyframe free, lets the planes pull all of it at once.
+    window_options.ba_window_keyframes = options_.map_lock.structure_keyframes;
+    window_options.ba_window_keyframes_turn = options_.map_lock.structure_keyframes;
+    window_options.ba_max_fixed_keyframes = 0;
+    window_options.ba_fix_first_keyframe = false;
+    lock_window_pending_ = false;
+  }
+  job.problem = BuildLocalWindow(map_, keyframe_id, window_options, camera_,
                                  planes_active ? planes_.get() : nullptr);
   // With lambda = 1 the planes do not act on the trajectory (the ablation's "no plane term").
   if (planes_active && options_.planes.trajectory_consensus && options_.ba.lambda < 1.0) {
@@ -707,6 +717,7 @@ void Tracker::LockBookkeeping(const MapCorrection& correction, int frame_id) {
     planes_->SetTrajectoryCovariance(correction.camera_position_covariance);
     settle_until_keyframe_id_ = map_.last_keyframe_id() + options_.map_lock.settle_keyframes;
   }
+  if (locker_->state() == MapLock::kLocked && !correction.recorrection) lock_window_pending_ = true;
   lock_events_.push_back({frame_id, locker_->state(), map_from_world, correction.first_keyframe_id,
                           correction.recorrection});
 }

@@ -210,6 +210,8 @@ class Tracker {
   int consensus_corrections_ = 0;
   // Keyframe id from which plane bias statistics stop allowing for the last lock's error; -1: none.
   int settle_until_keyframe_id_ = -1;
+  // After a full lock: the next window spans the segment with every keyframe free.
+  bool lock_window_pending_ = false;
   // Keyframe whose BA waits for the worker (threaded mode).
   std::optional<int> deferred_ba_keyframe_;
   // Threaded: the frame at which the BA now on the worker was submitted (LocalBA.maxLagFrames).
