@@ -1,18 +1,14 @@
 #include "planeloc/tracking/lock_fusion.h"
 
-#include <fmt/format.h>
-
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <vector>
 
 namespace planeloc {
 namespace {
 
-constexpr double kDegree = std::numbers::pi / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Added to a covariance's diagonal before inverting it: a DoF declared exact (sigma 0) becomes a
 // very stiff one instead of a singular matrix.
@@ -23,10 +19,6 @@ Matrix6d BlockDiagonal(const Eigen::Matrix3d& a) {
   b.topLeftCorner<3, 3>() = a;
   b.bottomRightCorner<3, 3>() = a;
   return b;
-}
-
-std::string JsonNumber(double value, int digits) {
-  return std::isfinite(value) ? fmt::format("{:.{}f}", value, digits) : std::string("null");
 }
 
 }  // namespace
@@ -138,31 +130,6 @@ FusedCorrection FuseRegistration(const RegistrationResult& result,
   const Eigen::Vector3d& camera = result.camera_in_world;
   fused.map_from_world = Rigid3d(rotation, camera + shift - rotation * camera);
   return fused;
-}
-
-std::string FusedCorrection::ToJson() const {
-  std::string registered_json, applied_json, sigma_json, changed_json;
-  for (int dof = 0; dof < kNumDofs; ++dof) {
-    // Metres for the shifts, degrees for the angles.
-    const double unit = dof < 3 ? 1.0 : 1.0 / kDegree;
-    const char* separator = dof ? "," : "";
-    registered_json += fmt::format("{}\"{}\":{}", separator, RegistrationDofName(dof),
-                                   JsonNumber(registered(dof) * unit, 5));
-    applied_json += fmt::format("{}\"{}\":{}", separator, RegistrationDofName(dof),
-                                JsonNumber(applied(dof) * unit, 5));
-    if (changed_dofs[dof]) {
-      changed_json +=
-          fmt::format("{}\"{}\"", changed_json.empty() ? "" : ",", RegistrationDofName(dof));
-    }
-    sigma_json += fmt::format("{}\"{}\":{}", separator, RegistrationDofName(dof),
-                              JsonNumber(innovation_sigma(dof) * unit, 5));
-  }
-  return fmt::format(
-      "{{\"accepted\":{},\"changed\":[{}],\"registered\":{{{}}},\"applied\":{{{}}},\"innovation_"
-      "sigma\":{{{}}},\"worst_sigmas\":{},"
-      "\"worst_dof\":\"{}\"}}",
-      accepted, changed_json, registered_json, applied_json, sigma_json,
-      JsonNumber(worst_sigmas, 3), worst_dof >= 0 ? RegistrationDofName(worst_dof) : "none");
 }
 
 }  // namespace planeloc

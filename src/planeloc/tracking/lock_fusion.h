@@ -46,7 +46,8 @@ struct FusedCorrection {
   Rigid3d map_from_world;
   // Fused covariance of the camera position (m^2, map axes).
   Eigen::Matrix3d camera_position_covariance = Eigen::Matrix3d::Zero();
-  std::string ToJson() const;  // the applied correction and the gate, metres and degrees
+  // The applied correction and the gate, metres and degrees (map_lock.cc, with the report).
+  std::string ToJson() const;
 };
 
 // Covariance of the correction `prior` describes (pivoted at prior.pivot_in_world, world axes),

@@ -146,6 +146,31 @@ std::string RegistrationReport::ToJson() const {
       fusion ? fusion->ToJson() : std::string("null"), result.reason);
 }
 
+std::string FusedCorrection::ToJson() const {
+  std::string registered_json, applied_json, sigma_json, changed_json;
+  for (int dof = 0; dof < kNumDofs; ++dof) {
+    // Metres for the shifts, degrees for the angles.
+    const double unit = dof < 3 ? 1.0 : 1.0 / kDegree;
+    const char* separator = dof ? "," : "";
+    registered_json += fmt::format("{}\"{}\":{}", separator, RegistrationDofName(dof),
+                                   JsonNumber(registered(dof) * unit, 5));
+    applied_json += fmt::format("{}\"{}\":{}", separator, RegistrationDofName(dof),
+                                JsonNumber(applied(dof) * unit, 5));
+    if (changed_dofs[dof]) {
+      changed_json +=
+          fmt::format("{}\"{}\"", changed_json.empty() ? "" : ",", RegistrationDofName(dof));
+    }
+    sigma_json += fmt::format("{}\"{}\":{}", separator, RegistrationDofName(dof),
+                              JsonNumber(innovation_sigma(dof) * unit, 5));
+  }
+  return fmt::format(
+      "{{\"accepted\":{},\"changed\":[{}],\"registered\":{{{}}},\"applied\":{{{}}},\"innovation_"
+      "sigma\":{{{}}},\"worst_sigmas\":{},"
+      "\"worst_dof\":\"{}\"}}",
+      accepted, changed_json, registered_json, applied_json, sigma_json,
+      JsonNumber(worst_sigmas, 3), worst_dof >= 0 ? RegistrationDofName(worst_dof) : "none");
+}
+
 MapLocker::MapLocker(const PlaneMap& planes, const MapLockOptions& options, const StartPrior& start,
                      const Rigid3d& world_from_cam_initial, bool threaded)
     : options_(options), registration_(planes, options.registration) {
