@@ -13,7 +13,7 @@
 
 #include "command_registry.h"
 #include "flags.h"
-#include "planeloc/tracking/run_sequence.h"
+#include "planeloc/pipeline/run_sequence.h"
 #include "planeloc/util/allocator.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/safe_file.h"

@@ -21,8 +21,8 @@
 #include "planeloc/features/orb_extractor.h"
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/io/plane_map.h"
+#include "planeloc/prior/crease_check.h"
 #include "planeloc/sim/simulator.h"
-#include "planeloc/tracking/crease_check.h"
 
 namespace planeloc {
 namespace {

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "planeloc/io/kitti_sequence.h"
-#include "planeloc/tracking/tracker.h"
+#include "planeloc/pipeline/tracker.h"
 
 namespace planeloc {
 namespace {

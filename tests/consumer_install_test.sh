@@ -18,7 +18,7 @@ step() {  # step NAME COMMAND...
 prefix="$tmp/prefix"
 step install cmake --install "$build" --prefix "$prefix"
 for f in lib/cmake/planeloc/planelocConfig.cmake include/planeloc/localizer/localizer.h \
-         include/planeloc/tracking/tracker.h lib/libplaneloc_tracking.a bin/planeloc; do
+         include/planeloc/pipeline/tracker.h lib/libplaneloc_tracking.a bin/planeloc; do
   [ -e "$prefix/$f" ] || fail "installed $f" /dev/null
 done
 [ -z "$(find "$prefix/include" -name '*_test.h' -o -name 'test_*.h')" ] || \

@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "planeloc/localizer/localizer.h"
-#include "planeloc/tracking/run_sequence.h"
+#include "planeloc/pipeline/run_sequence.h"
 
 namespace planeloc::node {
 

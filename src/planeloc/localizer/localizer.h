@@ -28,9 +28,9 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
-#include "planeloc/tracking/map_lock.h"
-#include "planeloc/tracking/settings.h"
-#include "planeloc/tracking/tracker.h"
+#include "planeloc/pipeline/settings.h"
+#include "planeloc/pipeline/tracker.h"
+#include "planeloc/prior/map_lock.h"
 
 namespace planeloc {
 

@@ -7,8 +7,8 @@
 #include <memory>
 
 #include "planeloc/io/kitti_sequence.h"
+#include "planeloc/pipeline/run_sequence.h"
 #include "planeloc/sim/simulator.h"
-#include "planeloc/tracking/run_sequence.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/temp_dir.h"
 

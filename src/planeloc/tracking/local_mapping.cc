@@ -8,23 +8,8 @@
 #include <set>
 
 namespace planeloc {
-namespace {
-
-// The point's keypoints in the keyframes observing it, for the crease gate.
-std::vector<PlaneAssociator::KeypointView> KeypointViews(const SparseMap& map,
-                                                         const MapPoint& point) {
-  std::vector<PlaneAssociator::KeypointView> views;
-  for (const auto& [kf_id, keypoint] : point.observations) {
-    const cv::KeyPoint& kp = map.keyframe(kf_id).features.left.keypoints[keypoint];
-    views.push_back({kf_id, Eigen::Vector2d(kp.pt.x, kp.pt.y)});
-  }
-  return views;
-}
-
-}  // namespace
-
 std::vector<int> CreateStereoPoints(SparseMap& map, int keyframe_id, const StereoCamera& camera,
-                                    const TrackerOptions& options) {
+                                    const OdometryOptions& options) {
   const Keyframe& kf = map.keyframe(keyframe_id);
   const double close_depth = options.close_depth_baselines * camera.baseline;
   const double far_depth = options.far_depth_baselines * camera.baseline;
@@ -56,7 +41,7 @@ std::vector<int> CreateStereoPoints(SparseMap& map, int keyframe_id, const Stere
 }
 
 int CullRecentPoints(SparseMap& map, std::vector<int>& recent_point_ids, int current_keyframe_id,
-                     const TrackerOptions& options) {
+                     const OdometryOptions& options) {
   int erased = 0;
   std::vector<int> kept;
   for (int id : recent_point_ids) {
@@ -76,7 +61,7 @@ int CullRecentPoints(SparseMap& map, std::vector<int>& recent_point_ids, int cur
   return erased;
 }
 
-bool IsTurning(const SparseMap& map, int keyframe_id, const TrackerOptions& options) {
+bool IsTurning(const SparseMap& map, int keyframe_id, const OdometryOptions& options) {
   const auto& keyframes = map.keyframes();
   auto it = keyframes.find(keyframe_id);
   if (it == keyframes.end()) return false;
@@ -86,26 +71,8 @@ bool IsTurning(const SparseMap& map, int keyframe_id, const TrackerOptions& opti
   return angle > options.ba_turn_angle_deg * std::numbers::pi / 180.0;
 }
 
-std::optional<PointEstimate> VisualPointEstimate(const SparseMap& map, const MapPoint& point,
-                                                 const StereoCamera& camera,
-                                                 const TrackerOptions& options) {
-  std::vector<PointEstimate> estimates;
-  for (const auto& [kf_id, keypoint] : point.observations) {
-    const Keyframe& kf = map.keyframe(kf_id);
-    const double u_right = kf.features.u_right[keypoint];
-    if (u_right < 0) continue;
-    const cv::KeyPoint& kp = kf.features.left.keypoints[keypoint];
-    const double sigma = options.planes.pixel_sigma * std::pow(map.scale().scale_factor, kp.octave);
-    if (auto e = StereoPointEstimate(camera, kf.cam_from_world, kp.pt.x, kp.pt.y, u_right, sigma)) {
-      estimates.push_back(*e);
-    }
-  }
-  if (estimates.empty()) return std::nullopt;
-  return FusePointEstimates(estimates);
-}
-
-WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const TrackerOptions& options,
-                               const StereoCamera& camera, PlaneAssociator* planes) {
+WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id,
+                               const OdometryOptions& options) {
   const int window_size = IsTurning(map, keyframe_id, options) ? options.ba_window_keyframes_turn
                                                                : options.ba_window_keyframes;
   std::vector<int> local = map.BestCovisible(keyframe_id, window_size - 1);
@@ -162,48 +129,9 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
   for (int kf_id : fixed) add_keyframe(kf_id, true);
 
   const double scale2 = map.scale().scale_factor * map.scale().scale_factor;
-  std::set<int> plane_ids;
-  int associations = 0;
-  std::vector<double> map_variances;     // per problem point, of its association
-  std::vector<double> common_variances;  // per problem point, of its association's plane
-  std::map<int, int> plane_points;       // associations per plane in this window
-  // Decided from the points' stereo measurements, not from their BA positions (hysteresis). All
-  // of the window's points are recorded before any is associated: the records may move the
-  // gate's centre (PlaneAssociator::FinishRecords, the trajectory's offset from the map).
-  std::vector<std::optional<PointEstimate>> estimates;
-  if (planes) {
-    estimates.reserve(point_ids.size());
-    for (int id : point_ids) {
-      estimates.push_back(VisualPointEstimate(map, map.point(id), camera, options));
-      if (estimates.back()) planes->Record(id, *estimates.back());
-    }
-    planes->FinishRecords();
-  }
-  std::size_t point_index = 0;
   for (int id : point_ids) {
     const MapPoint& point = map.point(id);
-    WindowPoint window_point{id, point.point_in_world, std::nullopt};
-    double map_variance = 0, common_variance = 0;
-    if (planes) {
-      if (const auto& estimate = estimates[point_index++]) {
-        auto association = planes->Associate(*estimate);
-        if (association && !planes->GateAllows(association->plane_id, estimate->point_in_map,
-                                               KeypointViews(map, point))) {
-          association.reset();  // across a confirmed crease, or outside the plane's image region
-        }
-        if (association) {
-          window_point.plane_id = association->plane_id;
-          window_point.plane_sigma = association->sigma;
-          ++associations;
-          ++plane_points[association->plane_id];
-          map_variance = association->map_variance;
-          common_variance = association->common_variance;
-        }
-      }
-    }
-    problem.points.push_back(window_point);
-    map_variances.push_back(map_variance);
-    common_variances.push_back(common_variance);
+    problem.points.push_back(WindowPoint{id, point.point_in_world, std::nullopt});
     for (const auto& [kf_id, keypoint] : point.observations) {
       if (!local_set.count(kf_id) && !fixed.count(kf_id)) continue;
       const Keyframe& kf = map.keyframe(kf_id);
@@ -217,59 +145,6 @@ WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const Trac
       obs.information = 1.0 / std::pow(scale2, kp.octave);
       problem.observations.push_back(obs);
     }
-  }
-  if (planes) {
-    planes->UpdateHealth(associations);
-    // Staged activation: too few associations for the plane term to be trusted, plain BA.
-    const bool active = associations >= options.planes.min_associations;
-    for (WindowPoint& p : problem.points) {
-      if (!active) {
-        p.plane_id.reset();
-        p.plane_sigma = 0;
-      } else if (p.plane_id) {
-        plane_ids.insert(*p.plane_id);
-      }
-    }
-    const bool correct = options.planes.plane_correction;
-    for (std::size_t i = 0; active && correct && i < problem.points.size(); ++i) {
-      WindowPoint& p = problem.points[i];
-      if (!p.plane_id) continue;
-      // The map's part (rms, map sigma, bias) moves to the plane's correction prior; the
-      // fitted rms stays with the point as well (the surface's roughness about its plane).
-      const double rms = planes->plane(*p.plane_id).rms;
-      const double point_variance = p.plane_sigma * p.plane_sigma - map_variances[i];
-      p.plane_sigma = std::sqrt(std::max(point_variance, 0.0) + rms * rms);
-    }
-    const int common = correct ? 0 : options.planes.common_mode_points;
-    for (std::size_t i = 0; active && common > 0 && i < problem.points.size(); ++i) {
-      WindowPoint& p = problem.points[i];
-      if (!p.plane_id) continue;
-      const double n = plane_points[*p.plane_id];
-      if (n <= common) continue;
-      // sigma^2 = point variance + map variance: only the map's part is common to the plane.
-      const double map_variance = map_variances[i];
-      const double point_variance = p.plane_sigma * p.plane_sigma - map_variance;
-      p.plane_sigma = std::sqrt(point_variance + map_variance * n / common);
-    }
-    // Planes.biasCommonMode: N_k points share the plane's bias b, N_k b^2 each (the marginal of
-    // one shared offset); common_variance is 0 with the option off.
-    for (std::size_t i = 0; active && i < problem.points.size(); ++i) {
-      WindowPoint& p = problem.points[i];
-      if (!p.plane_id || common_variances[i] <= 0.0) continue;
-      const double n = plane_points[*p.plane_id];
-      p.plane_sigma = std::sqrt(p.plane_sigma * p.plane_sigma + n * common_variances[i]);
-    }
-  }
-  for (const int plane_id : plane_ids) {
-    const MapPlane& plane = planes->plane(plane_id);
-    WindowPlane window_plane{plane_id, plane.plane_in_map};
-    if (options.planes.plane_correction) {
-      const double sigma = planes->PlaneSigma(plane_id);
-      window_plane.offset_sigma = std::sqrt(std::max(sigma * sigma - plane.rms * plane.rms, 0.0));
-      window_plane.tilt_sigma = options.planes.correction_tilt_sigma_deg * std::numbers::pi / 180.0;
-      window_plane.anchor = plane.centroid;
-    }
-    problem.planes.push_back(window_plane);
   }
   return problem;
 }

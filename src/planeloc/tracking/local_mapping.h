@@ -10,8 +10,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/optim/window_ba.h"
 #include "planeloc/tracking/map.h"
-#include "planeloc/tracking/plane_association.h"
-#include "planeloc/tracking/settings.h"
+#include "planeloc/tracking/odometry_options.h"
 
 namespace planeloc {
 
@@ -19,39 +18,28 @@ namespace planeloc {
 // close depth, then nearest-first further ones up to far depth, and at least
 // `min_new_stereo_points` points in total (ORB-SLAM2 CreateNewKeyFrame). Returns the new ids.
 std::vector<int> CreateStereoPoints(SparseMap& map, int keyframe_id, const StereoCamera& camera,
-                                    const TrackerOptions& options);
+                                    const OdometryOptions& options);
 
 // ORB-SLAM2 MapPointCulling over the recently created points: erase a point whose found/visible
 // ratio is below min_found_ratio, or that two keyframes after its creation is observed by fewer
 // than min_point_observations keyframes; points older than three keyframes leave the list.
 // Returns the number of erased points.
 int CullRecentPoints(SparseMap& map, std::vector<int>& recent_point_ids, int current_keyframe_id,
-                     const TrackerOptions& options);
+                     const OdometryOptions& options);
 
 // The local BA window around `keyframe_id`: it and its best covisible keyframes are free; other
 // keyframes observing the window's points are fixed anchors (the most connected first). The
 // first keyframe of the map (the given initial pose) is always fixed, and the oldest window
 // keyframe is fixed when nothing else is (gauge freedom). The window has
 // options.ba_window_keyframes keyframes, options.ba_window_keyframes_turn at a turn (see
-// IsTurning). With `planes`: every window point whose visual estimate (VisualPointEstimate)
-// passes the plane gate (and PlaneAssociator::GateAllows, the crease gate, for its keypoints)
-// gets its plane id and the gate's sigma, the planes used are added to
-// the problem, the planes' bias statistics are updated (PlaneAssociator::Record, UpdateHealth),
-// and a window with fewer than options.planes.min_associations associated points gets none
-// (staged activation: plain visual BA).
-WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id, const TrackerOptions& options,
-                               const StereoCamera& camera, PlaneAssociator* planes = nullptr);
-
-// The point's position from its stereo observations only (each back-projected from its
-// keyframe's current pose, fused by information; keypoint noise options.planes.pixel_sigma
-// times scale_factor^octave). std::nullopt when no observation has a stereo match.
-std::optional<PointEstimate> VisualPointEstimate(const SparseMap& map, const MapPoint& point,
-                                                 const StereoCamera& camera,
-                                                 const TrackerOptions& options);
+// IsTurning). Visual only: the prior map's half (which points lie on which plane) is added by
+// AssociateWindowPlanes (prior/window_planes.h).
+WindowProblem BuildLocalWindow(const SparseMap& map, int keyframe_id,
+                               const OdometryOptions& options);
 
 // True when the heading changed by more than options.ba_turn_angle_deg between `keyframe_id`
 // and the keyframe options.ba_window_keyframes keyframes before it (or the oldest one).
-bool IsTurning(const SparseMap& map, int keyframe_id, const TrackerOptions& options);
+bool IsTurning(const SparseMap& map, int keyframe_id, const OdometryOptions& options);
 
 // The version stamps (Keyframe::version, MapPoint::version) of a window's keyframes and points
 // when the window was built, aligned with problem.keyframes and problem.points.

@@ -36,7 +36,7 @@ struct MapMaintenanceOptions {
   double fuse_radius = 3.0;
   // Keyframes kept at most (besides the first): beyond that the oldest are erased with the
   // points only they observe (Mapping.keepKeyframes; 0: keep every keyframe). Must exceed what
-  // the local map and the BA window reach back (TrackerOptions::Check).
+  // the local map and the BA window reach back (OdometryOptions::Check).
   int keep_keyframes = 300;
 
   void Check() const;  // throws OptionsError naming the field

@@ -11,7 +11,7 @@
 
 #include "planeloc/tracking/frame.h"
 #include "planeloc/tracking/local_mapping.h"
-#include "planeloc/tracking/settings.h"
+#include "planeloc/tracking/odometry_options.h"
 #include "planeloc/tracking/test_camera.h"
 #include "planeloc/util/error.h"
 
@@ -19,7 +19,7 @@ namespace planeloc {
 namespace {
 
 StereoCamera TestCamera() { return testing::RoundStereoCamera(); }
-constexpr double kCloseDepth = 20.0;  // TrackerOptions' 40 baselines of the 0.5 m test camera
+constexpr double kCloseDepth = 20.0;  // OdometryOptions' 40 baselines of the 0.5 m test camera
 
 // A frame at `cam_from_world` whose keypoint i sees points_in_world[i] (stereo, exact), at
 // pyramid level `octave`, with descriptor row i.
@@ -312,8 +312,8 @@ TEST(MapMaintenanceTest, LateBaResultSkipsErasedAndMergedIds) {
   map.AddObservation(a, kfs[1], 20);
   const int b = map.AddPoint(points[20], kfs[3], 20);
   for (const int kf : kfs) map.UpdateConnections(kf);
-  TrackerOptions options;
-  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options, camera);
+  OdometryOptions options;
+  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options);
   const WindowSnapshot snapshot = SnapshotWindow(map, problem);
   WindowBaResult result;
   result.usable = true;
@@ -345,7 +345,7 @@ TEST(MapMaintenanceTest, LateBaResultSkipsErasedAndMergedIds) {
 }
 
 TEST(MapMaintenanceTest, OptionsAreChecked) {
-  TrackerOptions options;
+  OdometryOptions options;
   EXPECT_NO_THROW(options.Check());
   // Forgetting inside the local map's reach (60 keyframes by default) is refused; 0 is "off".
   options.maintenance.keep_keyframes = 59;

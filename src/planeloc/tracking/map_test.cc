@@ -17,20 +17,7 @@ namespace {
 
 StereoCamera TestCamera() { return testing::RoundStereoCamera(); }
 
-// Features of the given camera-frame points seen by `camera` (stereo where depth > 0).
-StereoFeatures FeaturesOf(const std::vector<Eigen::Vector3d>& points_in_cam,
-                          const cv::Mat& descriptors, const StereoCamera& camera) {
-  StereoFeatures f;
-  f.left.descriptors = descriptors.clone();
-  for (const Eigen::Vector3d& p : points_in_cam) {
-    const Eigen::Vector3d uvr = *camera.ProjectStereo(p);
-    f.left.keypoints.emplace_back(cv::Point2f(uvr.x(), uvr.y()), 31.f, 45.f, 0.f, 0);
-    f.u_right.push_back(static_cast<float>(uvr.z()));
-    f.depth.push_back(static_cast<float>(p.z()));
-  }
-  return f;
-}
-
+using testing::FeaturesOf;
 using testing::RandomDescriptors;
 using testing::RandomPoints;
 
@@ -143,7 +130,7 @@ TEST(LocalMappingTest, WindowFixesAnchorsAndGauge) {
   const cv::Mat descriptors = RandomDescriptors(60, rng);
   const Frame frame(0, 0.0, FeaturesOf(points, descriptors, camera), camera);
   SparseMap map;
-  TrackerOptions options;
+  OdometryOptions options;
   options.ba_window_keyframes = 2;
   std::vector<int> kfs;
   for (int k = 0; k < 4; ++k) kfs.push_back(map.AddKeyframe(frame));
@@ -157,7 +144,7 @@ TEST(LocalMappingTest, WindowFixesAnchorsAndGauge) {
     }
   }
   for (int k : kfs) map.UpdateConnections(k);
-  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options, camera);
+  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options);
   // Window: kf 3 and its best covisible (a tie at 15 shared points: the lowest id, kf 0); all
   // others observing its points are fixed anchors; keyframe 0 (the initial pose) stays fixed.
   std::map<int, bool> fixed;
@@ -196,7 +183,7 @@ TEST(LocalMappingTest, LateResultNeverUndoesANewerChange) {
   const std::vector<Eigen::Vector3d> points = RandomPoints(40, rng);
   const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(40, rng), camera), camera);
   SparseMap map;
-  TrackerOptions options;
+  OdometryOptions options;
   std::vector<int> kfs;
   for (int k = 0; k < 3; ++k) kfs.push_back(map.AddKeyframe(frame));
   const std::vector<int> created = CreateStereoPoints(map, kfs[0], camera, options);
@@ -204,7 +191,7 @@ TEST(LocalMappingTest, LateResultNeverUndoesANewerChange) {
     for (int id : created) map.AddObservation(id, kfs[k], map.point(id).observations.at(kfs[0]));
   }
   for (int k : kfs) map.UpdateConnections(k);
-  const WindowProblem problem = BuildLocalWindow(map, kfs[2], options, camera);
+  const WindowProblem problem = BuildLocalWindow(map, kfs[2], options);
   const WindowSnapshot snapshot = SnapshotWindow(map, problem);
   ASSERT_EQ(snapshot.point_versions.size(), problem.points.size());
 
@@ -274,7 +261,7 @@ TEST(LocalMappingTest, CullsPointsNotSeenAgain) {
   const std::vector<Eigen::Vector3d> points = RandomPoints(10, rng);
   const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(10, rng), camera), camera);
   SparseMap map;
-  TrackerOptions options;
+  OdometryOptions options;
   const int k0 = map.AddKeyframe(frame);
   std::vector<int> recent = CreateStereoPoints(map, k0, camera, options);
   const int k1 = map.AddKeyframe(frame);
@@ -288,13 +275,13 @@ TEST(LocalMappingTest, CullsPointsNotSeenAgain) {
   EXPECT_EQ(map.points().size(), 1u);
 }
 
-TEST(LocalMappingTest, WindowTagsPlanePointsAndGrowsAtTurns) {
+TEST(LocalMappingTest, WindowGrowsAtTurns) {
   std::mt19937 rng(12);
   const StereoCamera camera = TestCamera();
   const std::vector<Eigen::Vector3d> points = RandomPoints(60, rng);
   const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
   SparseMap map;
-  TrackerOptions options;
+  OdometryOptions options;
   options.ba_window_keyframes = 2;
   options.ba_window_keyframes_turn = 3;
   options.ba_turn_angle_deg = 15.0;
@@ -314,193 +301,14 @@ TEST(LocalMappingTest, WindowTagsPlanePointsAndGrowsAtTurns) {
     return free;
   };
   EXPECT_FALSE(IsTurning(map, kfs[3], options));
-  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options, camera)), 1);  // kf 0 is fixed
+  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options)), 1);  // kf 0 is fixed
   // Keyframe 3 turned by 20 degrees: one more keyframe joins the window.
   map.SetKeyframePose(kfs[3],
                       Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(20.0 * std::numbers::pi / 180.0,
                                                                    Eigen::Vector3d::UnitY())),
                               Eigen::Vector3d::Zero()));
   EXPECT_TRUE(IsTurning(map, kfs[3], options));
-  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options, camera)), 2);
-
-  // Keyframe 3 back where its (unchanged) stereo observations were made: the association below
-  // uses them.
-  map.SetKeyframePose(kfs[3], Rigid3d::Identity());
-  // A plane z = z0 through point 5 (the world is keyframe 0's camera frame). The expectation is
-  // independent of the gate's formula: a point within 2 cm of the plane passes every gate (the
-  // gate's sigma is at least Planes.mapSigma, 5 cm, so its band is at least
-  // sqrt(6.635) * 5 cm = 12.9 cm), and a point beyond the 15 cm cap passes none. In between it
-  // depends on the depth; no assertion there.
-  const double z0 = points[5].z();
-  PlaneMap plane_map;
-  MapPlane wall;
-  wall.id = 42;
-  wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -z0);
-  wall.area = 400;
-  wall.polygon = {{-20, -20, z0}, {20, -20, z0}, {20, 20, z0}, {-20, 20, z0}};
-  plane_map.planes.push_back(wall);
-  options.planes.min_associations = 1;
-  ASSERT_GE(options.planes.map_sigma, 0.05);
-  ASSERT_LE(options.planes.max_distance, 0.15);
-  PlaneAssociator planes(plane_map, options.planes);
-  const WindowProblem problem = BuildLocalWindow(map, kfs[3], options, camera, &planes);
-  int on_plane = 0, surely_in = 0, surely_out = 0;
-  for (const WindowPoint& p : problem.points) {
-    const double s = std::abs(p.point_in_world.z() - z0);
-    if (s < 0.02) {
-      EXPECT_TRUE(p.plane_id.has_value()) << p.point_in_world.transpose();
-      ++surely_in;
-    } else if (s > 0.15) {
-      EXPECT_FALSE(p.plane_id.has_value()) << p.point_in_world.transpose();
-      ++surely_out;
-    }
-    on_plane += p.plane_id.has_value();
-  }
-  ASSERT_GT(surely_in, 0);
-  ASSERT_GT(surely_out, 0);
-  ASSERT_GT(on_plane, 0);
-  ASSERT_EQ(problem.planes.size(), 1u);
-  EXPECT_EQ(problem.planes[0].id, 42);
-  EXPECT_EQ(BuildLocalWindow(map, kfs[3], options, camera).planes.size(), 0u);
-
-  // Staged activation: fewer associations than min_associations, plain visual BA.
-  options.planes.min_associations = on_plane + 1;
-  const WindowProblem staged = BuildLocalWindow(map, kfs[3], options, camera, &planes);
-  EXPECT_TRUE(staged.planes.empty());
-  for (const WindowPoint& p : staged.points) EXPECT_FALSE(p.plane_id.has_value());
-
-  // Hysteresis: a point that a BA pulled onto the plane, while its stereo says it is 30 cm off
-  // (and the gate is tighter there), stays off it: the decision uses the stereo estimate.
-  options.planes.min_associations = 1;
-  int moved = -1;
-  for (int id : created) {
-    const Eigen::Vector3d p = map.point(id).point_in_world;
-    if (std::abs(p.z() - z0) > 0.3) {  // beyond the 15 cm cap: never associated by its stereo
-      moved = id;
-      break;
-    }
-  }
-  ASSERT_GE(moved, 0);
-  Eigen::Vector3d pulled = map.point(moved).point_in_world;
-  pulled.z() = z0;
-  map.SetPointPosition(moved, pulled);
-  ASSERT_EQ(planes.Associate(pulled), 42);  // by its BA position it would be on the plane
-  bool seen = false;
-  for (const WindowPoint& p : BuildLocalWindow(map, kfs[3], options, camera, &planes).points) {
-    if (p.id != moved) continue;
-    seen = true;
-    EXPECT_FALSE(p.plane_id.has_value());
-  }
-  EXPECT_TRUE(seen);
-}
-
-// One keyframe whose 60 stereo points lie on z = 4 in front of the camera, and a plane map of
-// one large wall (id 7) at z = wall_z with fitted rms `rms`.
-struct WallWindow {
-  WallWindow(double wall_z, double rms) {
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<double> x(-3, 3), y(-0.9, 0.9);
-    std::vector<Eigen::Vector3d> points;
-    for (int i = 0; i < 60; ++i) points.emplace_back(x(rng), y(rng), 4.0);
-    const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
-    keyframe_id = map.AddKeyframe(frame);
-    CreateStereoPoints(map, keyframe_id, camera, TrackerOptions());
-    map.UpdateConnections(keyframe_id);
-    MapPlane wall;
-    wall.id = 7;
-    wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -wall_z);
-    wall.area = 400;
-    wall.rms = rms;
-    wall.polygon = {{-20, -20, wall_z}, {20, -20, wall_z}, {20, 20, wall_z}, {-20, 20, wall_z}};
-    plane_map.planes.push_back(wall);
-  }
-  StereoCamera camera = TestCamera();
-  SparseMap map;
-  int keyframe_id = 0;
-  PlaneMap plane_map;
-};
-
-// The window's information along the planes' normals: the sum of 1 / sigma^2 of its points'
-// point-to-plane residuals; `associated` counts them.
-double PlaneInformation(const WindowProblem& problem, int* associated) {
-  double sum = 0;
-  *associated = 0;
-  for (const WindowPoint& p : problem.points) {
-    if (!p.plane_id) continue;
-    ++*associated;
-    sum += 1.0 / (p.plane_sigma * p.plane_sigma);
-  }
-  return sum;
-}
-
-// A wall that 60 window points lie on: each point counts as independent of the others unless
-// Planes.commonModePoints says the map's error is shared. Then the window's total information
-// from the plane's map error is at most that many points' worth, however many points it holds.
-TEST(LocalMappingTest, CommonModePointsCapAPlanesInformation) {
-  // At 4 m the points' own sigma along the normal (2.6 cm) is small next to the map's (5.8 cm).
-  const WallWindow w(4.0, 0.03);
-  const StereoCamera& camera = w.camera;
-  const SparseMap& map = w.map;
-  const int kf = w.keyframe_id;
-  const MapPlane& wall = w.plane_map.planes.front();
-  const PlaneMap& plane_map = w.plane_map;
-  TrackerOptions options;
-  options.planes.min_associations = 1;
-  // The plane's map variance: its rms and the map sigma (no bias recorded yet).
-  const double map_variance =
-      wall.rms * wall.rms + options.planes.map_sigma * options.planes.map_sigma;
-  auto information = [&](int common_mode_points, int* associated) {
-    options.planes.common_mode_points = common_mode_points;
-    PlaneAssociator planes(plane_map, options.planes);
-    return PlaneInformation(BuildLocalWindow(map, kf, options, camera, &planes), associated);
-  };
-  int independent_points = 0, capped_points = 0;
-  const double independent = information(0, &independent_points);
-  const double capped = information(10, &capped_points);
-  ASSERT_GE(independent_points, 50);
-  EXPECT_EQ(capped_points, independent_points);  // the gate is unchanged: same associations
-  EXPECT_LE(capped, 10.0 / map_variance * (1 + 1e-9));
-  EXPECT_GT(capped, 0.9 * 10.0 / map_variance);
-  EXPECT_GT(independent, 4.0 * capped);
-  // A plane with fewer points than the cap keeps every point's weight.
-  int few_points = 0;
-  EXPECT_DOUBLE_EQ(information(100, &few_points), independent);
-}
-
-// Planes.biasCommonMode: a wall 8 cm off its 60 points. After the first window has measured
-// the bias, each point carries N b^2 more variance, so the second window draws at most 1 / b^2
-// from the plane in all (b = bias - allowance), where without the option it draws far more.
-TEST(LocalMappingTest, ABiasedPlaneTiesTheWindowOnceNotOncePerPoint) {
-  const WallWindow w(4.08, 0.01);  // the points are at z = 4
-  const StereoCamera& camera = w.camera;
-  const SparseMap& map = w.map;
-  const int kf = w.keyframe_id;
-  const PlaneMap& plane_map = w.plane_map;
-  TrackerOptions options;
-  options.planes.min_associations = 1;
-  options.planes.bias_min = 0.5;  // not disabled: the weighting is tested
-  options.planes.bias_common_allowance = 0.03;
-  auto information = [&](bool common_mode, int* associated, double* bias) {
-    options.planes.bias_common_mode = common_mode;
-    PlaneAssociator planes(plane_map, options.planes);
-    BuildLocalWindow(map, kf, options, camera, &planes);  // measures the bias
-    const double sum =
-        PlaneInformation(BuildLocalWindow(map, kf, options, camera, &planes), associated);
-    *bias = planes.health(7).common_bias;
-    return sum;
-  };
-  int independent_points = 0, common_points = 0;
-  double no_bias = 0, bias = 0;
-  const double independent = information(false, &independent_points, &no_bias);
-  const double common = information(true, &common_points, &bias);
-  ASSERT_GE(independent_points, 50);
-  EXPECT_EQ(common_points, independent_points);  // the gate is unchanged: same associations
-  EXPECT_EQ(no_bias, 0.0);
-  // The points' median sits 8 cm below the wall: b = 0.08 - 0.03, within their noise.
-  EXPECT_NEAR(bias, 0.05, 0.015);
-  EXPECT_LE(common, 1.0 / (bias * bias));
-  EXPECT_GT(common, 0.5 / (bias * bias));
-  EXPECT_GT(independent, 4.0 * common);
+  EXPECT_EQ(free_keyframes(BuildLocalWindow(map, kfs[3], options)), 2);
 }
 
 }  // namespace

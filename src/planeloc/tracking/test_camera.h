@@ -1,5 +1,5 @@
 // A round-numbered rectified stereo camera for tracking tests on hand-made features, and the
-// random descriptors and points those tests draw.
+// random descriptors, points and features those tests draw.
 #pragma once
 
 #include <Eigen/Core>
@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "planeloc/features/stereo_matcher.h"
 #include "planeloc/geometry/camera.h"
 
 namespace planeloc::testing {
@@ -33,6 +34,21 @@ inline std::vector<Eigen::Vector3d> RandomPoints(int n, std::mt19937& rng) {
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < n; ++i) points.emplace_back(x(rng), y(rng), z(rng));
   return points;
+}
+
+// Features of the given camera-frame points seen by `camera` (stereo where depth > 0), one
+// keypoint per point at level 0 with the given descriptors.
+inline StereoFeatures FeaturesOf(const std::vector<Eigen::Vector3d>& points_in_cam,
+                                 const cv::Mat& descriptors, const StereoCamera& camera) {
+  StereoFeatures f;
+  f.left.descriptors = descriptors.clone();
+  for (const Eigen::Vector3d& p : points_in_cam) {
+    const Eigen::Vector3d uvr = *camera.ProjectStereo(p);
+    f.left.keypoints.emplace_back(cv::Point2f(uvr.x(), uvr.y()), 31.f, 45.f, 0.f, 0);
+    f.u_right.push_back(static_cast<float>(uvr.z()));
+    f.depth.push_back(static_cast<float>(p.z()));
+  }
+  return f;
 }
 
 }  // namespace planeloc::testing

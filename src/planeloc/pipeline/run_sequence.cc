@@ -1,0 +1,462 @@
+#include "planeloc/pipeline/run_sequence.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "planeloc/io/plane_map.h"
+#include "planeloc/pipeline/keyframe_overlay.h"
+#include "planeloc/util/error.h"
+#include "planeloc/util/progress.h"
+#include "planeloc/util/safe_file.h"
+
+namespace planeloc {
+namespace {
+
+std::vector<double> ParseNumbers(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<double> numbers;
+  std::string token;
+  while (in >> token) {
+    try {
+      std::size_t used = 0;
+      numbers.push_back(std::stod(token, &used));
+      if (used != token.size()) return {};
+    } catch (const std::exception&) {
+      return {};
+    }
+  }
+  return numbers;
+}
+
+// A pose from 12 numbers; `source`/`line` name where they came from in the errors.
+Rigid3d FromTwelve(const std::vector<double>& v, const std::string& source, int line) {
+  Eigen::Matrix<double, 3, 4> m;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) m(r, c) = v[r * 4 + c];
+  }
+  CheckInput(m.allFinite(), source, line, "the initial pose holds a NaN or infinite value",
+             "give a finite row-major 3x4 world_from_cam");
+  CheckRotation(m.leftCols<3>(), source, line);  // io/trajectory.h: the pose files' tolerance
+  return Rigid3d::FromMatrix3x4(m);
+}
+
+std::string ReadWhole(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  CheckInput(static_cast<bool>(in), path.string(), 0, "cannot read the file back for the report",
+             "check that the file was written and is readable");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Copies `from` into the report folder unless it was written there already.
+void CopyInto(const std::filesystem::path& from, const std::filesystem::path& to) {
+  std::error_code error;
+  if (std::filesystem::equivalent(from, to, error)) return;
+  WriteFileWhole(to, ReadWhole(from));
+}
+
+// Up to `count` keyframes spread over the run. Preferably where the pose is in the plane map's
+// frame (after the map lock, or every keyframe without a registration); a run that never locked
+// shows its keyframes in the frame of the initial pose (the overlay then shows how far off it is).
+std::vector<int> OverlayFrames(const std::vector<FrameStats>& stats, int count) {
+  // 0: in the map frame (locked, or no registration), 1: partly, 2: not yet.
+  const auto rank = [](const std::string& lock) {
+    return lock.empty() || lock == "locked" ? 0 : lock == "partial" ? 1 : 2;
+  };
+  std::vector<int> frames;
+  for (int accepted = 0; accepted <= 2 && frames.empty() && count > 0; ++accepted) {
+    std::vector<int> candidates;
+    for (const FrameStats& s : stats) {
+      if (s.keyframe && !s.skipped && rank(s.map_lock) <= accepted) candidates.push_back(s.frame);
+    }
+    const int n = std::min<int>(count, candidates.size());
+    for (int k = 0; k < n; ++k) {
+      const int index = static_cast<int>((k + 0.5) * candidates.size() / n);
+      frames.push_back(candidates[std::min<std::size_t>(index, candidates.size() - 1)]);
+    }
+  }
+  return frames;
+}
+
+struct EffectiveSettings {
+  TrackerOptions options;
+  StereoCamera camera;
+  bool calibration_from_settings = false;
+  std::shared_ptr<const StereoRectifier> rectifier;  // raw images: rectified on load
+};
+
+// Reads the settings file before anything slow, so that a bad file fails first.
+std::optional<SettingsFile> ReadSettings(const RunOptions& run) {
+  CheckInput(run.settings_path || !run.calibration_from_settings, "", 0,
+             "--calib-from-settings needs a settings file",
+             "pass --config settings.yaml with the camera keys, or drop --calib-from-settings");
+  if (!run.settings_path) return std::nullopt;
+  return LoadTrackerSettings(*run.settings_path, TrackerOptions{});
+}
+
+EffectiveSettings Effective(const RunOptions& run, std::optional<SettingsFile> file,
+                            const StereoCamera& sequence_camera) {
+  EffectiveSettings effective;
+  effective.camera = sequence_camera;
+  if (file) {
+    const std::string path = run.settings_path->string();
+    effective.calibration_from_settings =
+        run.calibration_from_settings || file->calibration_from_settings;
+    effective.camera = ChooseCamera(sequence_camera, file->camera,
+                                    effective.calibration_from_settings, path, &file->warnings);
+    if (file->camera && file->camera->rectifier) {
+      effective.rectifier = file->camera->rectifier;
+      effective.calibration_from_settings = true;
+      spdlog::info(
+          "{}: raw stereo images, rectified on load (fx {:.3f}, cx {:.3f}, cy {:.3f}, baseline "
+          "{:.5f} m); the sequence's calibration is not used",
+          path, effective.camera.fx, effective.camera.cx, effective.camera.cy,
+          effective.camera.baseline);
+    }
+    for (const auto& warning : file->warnings) spdlog::warn("{}: {}", path, warning);
+    if (!file->ignored.empty()) {
+      std::string keys;
+      for (const auto& key : file->ignored) keys.append(keys.empty() ? "" : ", ").append(key);
+      spdlog::info("{}: not used by planeloc (ignored): {}", path, keys);
+    }
+    effective.options = file->options;
+  }
+  TrackerOptions& options = effective.options;
+  if (run.deterministic) options.deterministic = true;
+  if (run.threads > 0) options.num_threads = run.threads;
+  options.Check();
+  return effective;
+}
+
+void WriteReportFolder(const RunOptions& run, const RunSummary& summary,
+                       const StereoSource& sequence, const EffectiveSettings& effective,
+                       const PlaneMap* plane_map) {
+  namespace fs = std::filesystem;
+  const fs::path& dir = *run.report_dir;
+  nlohmann::json meta = {{"mode", plane_map ? "planes" : "vo"},
+                         {"sequence", run.source ? sequence.name() : run.sequence.string()},
+                         {"format", run.format == TrajectoryFormat::kKitti ? "kitti" : "tum"},
+                         {"frames", summary.frames}};
+  WriteFileWhole(dir / "run.json", meta.dump(2) + '\n');
+  CopyInto(run.trajectory_path, dir / "trajectory.txt");
+  if (run.stats_path) CopyInto(*run.stats_path, dir / "stats.jsonl");
+  if (run.summary_path) CopyInto(*run.summary_path, dir / "summary.json");
+  const fs::path settings = run.trajectory_path.string() + ".config.yaml";
+  if (run.write_effective_settings) CopyInto(settings, dir / "settings.yaml");
+  if (run.planes_path) CopyInto(*run.planes_path, dir / "planes.json");
+
+  const std::vector<int> frames = OverlayFrames(summary.stats, run.report_keyframe_images);
+  if (frames.empty()) return;
+  std::error_code error;
+  fs::create_directories(dir / "keyframes", error);
+  CheckInput(!error, (dir / "keyframes").string(), 0,
+             fmt::format("cannot create the folder: {}", error.message()),
+             "check that --report-dir is writable");
+  for (const int frame : frames) {
+    if (frame < 0 || static_cast<std::size_t>(frame) >= summary.world_from_cam.size()) continue;
+    StereoPair pair;
+    try {
+      pair = sequence.LoadStereoPair(frame);
+      if (effective.rectifier) pair = effective.rectifier->Rectify(pair);
+    } catch (const InputError& e) {
+      spdlog::warn("report: no overlay of keyframe {}: {}", frame, e.what());
+      continue;
+    }
+    KeyframeOverlayCounts counts;
+    const cv::Mat overlay =
+        DrawKeyframeOverlay(pair.left, pair.right, summary.camera, summary.world_from_cam[frame],
+                            plane_map, summary.options, &counts);
+    // JPEG: a third of the PNG's size for a photo, and the report inlines every image.
+    std::vector<uchar> jpeg;
+    cv::imencode(".jpg", overlay, jpeg, {cv::IMWRITE_JPEG_QUALITY, 88});
+    // The map lock in the name: the report's caption says where the pose stood.
+    const std::string& lock = summary.stats[frame].map_lock;
+    const std::string name =
+        fmt::format("keyframe_{:06d}{}.jpg", frame, lock.empty() ? "" : "_map_lock_" + lock);
+    WriteFileWhole(dir / "keyframes" / name,
+                   std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
+  }
+}
+
+}  // namespace
+
+Rigid3d ParsePose12(const std::string& text) {
+  const std::vector<double> v = ParseNumbers(text);
+  CheckInput(v.size() == 12, "", 0,
+             "--init-pose needs 12 numbers (row-major 3x4 world_from_cam), got \"" + text + "\"",
+             "pass e.g. --init-pose \"1 0 0 0 0 1 0 0 0 0 1 0\"");
+  return FromTwelve(v, "--init-pose", 0);
+}
+
+StartPrior ParseInitSigma(const std::string& text) {
+  const std::vector<double> v = ParseNumbers(text);
+  StartPrior prior;
+  const bool valid = v.size() == 3 && std::all_of(v.begin(), v.end(), [](double x) {
+                       return std::isfinite(x) && x >= 0.0;
+                     });
+  CheckInput(valid, "--init-sigma", 0,
+             "expected three finite numbers >= 0 \"S_XY S_Z S_YAW_DEG\" (metres horizontal, "
+             "metres vertical, degrees of heading), got \"" +
+                 text + "\"",
+             "pass e.g. --init-sigma \"2 0.5 5\" (a GNSS-like start) or \"0 0 0\" (exact start)");
+  const bool searchable = v[0] <= StartPrior::kMaxSigmaHorizontal &&
+                          v[1] <= StartPrior::kMaxSigmaVertical &&
+                          v[2] <= StartPrior::kMaxSigmaYawDeg;
+  CheckInput(searchable, "--init-sigma", 0,
+             fmt::format("\"{}\" is beyond what the map registration can search: S_XY <= {} m, "
+                         "S_Z <= {} m, S_YAW_DEG <= {} deg",
+                         text, StartPrior::kMaxSigmaHorizontal, StartPrior::kMaxSigmaVertical,
+                         StartPrior::kMaxSigmaYawDeg),
+             "give the start within those bounds (e.g. from GNSS), or \"0 0 0\" for an exact "
+             "start");
+  prior.sigma_horizontal = v[0];
+  prior.sigma_vertical = v[1];
+  prior.sigma_yaw_deg = v[2];
+  return prior;
+}
+
+Rigid3d ReadFirstPose(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  CheckInput(in.good(), path.string(), 0, "cannot open the pose file",
+             "check the path given to --init-pose-from");
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty() || line[0] == '#') continue;
+    const std::vector<double> v = ParseNumbers(line);
+    if (v.size() == 12) return FromTwelve(v, path.string(), number);
+    if (v.size() == 8) {
+      const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+      CheckInput(std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }),
+                 path.string(), number, "the initial pose holds a NaN or infinite value",
+                 "write a finite TUM line: t tx ty tz qx qy qz qw");
+      CheckInput(std::abs(q.norm() - 1.0) <= kQuaternionNormTolerance, path.string(), number,
+                 fmt::format("|q| = {:.6g}: not a unit quaternion", q.norm()),
+                 "write a valid TUM line: t tx ty tz qx qy qz qw (unit quaternion)");
+      return Rigid3d(q.normalized(), Eigen::Vector3d(v[1], v[2], v[3]));
+    }
+    throw InputError(path.string(), number,
+                     "expected a KITTI pose (12 numbers) or a TUM pose (8 numbers)",
+                     "pass a KITTI or TUM trajectory file");
+  }
+  throw InputError(path.string(), 0, "the pose file holds no pose", "pass a non-empty file");
+}
+
+RunSummary RunSequence(const RunOptions& run) {
+  RunSummary summary;
+  std::optional<PlaneMap> plane_map;  // read first: a bad plane map fails before any work
+  if (run.planes_path) {
+    plane_map = ReadPlaneMap(*run.planes_path);
+    summary.planes = static_cast<int>(plane_map->planes.size());
+    if (plane_map->planes.empty()) {
+      spdlog::warn("{}: the plane map has no planes; the run is visual odometry only",
+                   run.planes_path->string());
+    }
+    // The plane map's frame is the world frame of the run: the initial pose must be given in it.
+    const PlaneMapFrame& frame = plane_map->frame;
+    const Eigen::Vector3d& t = run.world_from_cam_initial.translation;
+    if (frame.known()) {
+      spdlog::info(
+          "run: world frame = the plane map's frame '{}' (map {}, up [{:.3f}, {:.3f}, {:.3f}] "
+          "{}); initial camera position in it: [{:.3f}, {:.3f}, {:.3f}]",
+          frame.name, frame.map_file, frame.up.x(), frame.up.y(), frame.up.z(), frame.up_source,
+          t.x(), t.y(), t.z());
+    } else {
+      spdlog::info(
+          "run: world frame = the frame of {} (written before frames were recorded; assumed to "
+          "be the frame of the initial pose); initial camera position in it: [{:.3f}, {:.3f}, "
+          "{:.3f}]",
+          run.planes_path->string(), t.x(), t.y(), t.z());
+    }
+  }
+  if (plane_map) {
+    const std::string warning =
+        StartPriorWarning(*plane_map, run.world_from_cam_initial.translation, run.start_prior);
+    if (!warning.empty()) spdlog::warn("{}", warning);
+  }
+  std::optional<SettingsFile> settings = ReadSettings(run);
+  std::shared_ptr<const StereoSource> source = run.source;
+  if (!source)
+    source = std::make_shared<KittiSequence>(KittiSequence::Open(run.sequence, run.cameras));
+  const StereoSource& sequence = *source;
+  CheckInput(sequence.size() > 0, sequence.name(), 0, "the sequence has no frames",
+             run.source ? "pass a source with stereo frames"
+                        : "point --sequence at a KITTI odometry sequence or raw drive folder");
+  const EffectiveSettings effective = Effective(run, std::move(settings), sequence.camera());
+  summary.options = effective.options;
+  summary.camera = effective.camera;
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(summary.options.num_threads));
+  if (run.write_effective_settings) {
+    WriteTrackerSettings(run.trajectory_path.string() + ".config.yaml", summary.options,
+                         summary.camera, effective.calibration_from_settings,
+                         effective.rectifier.get());
+  }
+  TrajectoryWriter writer(run.trajectory_path, run.format);
+  std::optional<OutputFile> stats_out;
+  if (run.stats_path) stats_out.emplace(*run.stats_path, OutputFile::Mode::kIncremental);
+  const std::size_t total =
+      run.max_frames > 0 ? std::min<std::size_t>(run.max_frames, sequence.size()) : sequence.size();
+  Tracker tracker(summary.camera, summary.options, run.world_from_cam_initial,
+                  plane_map ? &*plane_map : nullptr, run.start_prior);
+  std::optional<ProgressBar> progress;
+  if (run.show_progress) progress.emplace("run", total, "frames");
+  const auto start = std::chrono::steady_clock::now();
+  // The next frames are decoded, rectified and their features extracted and matched while frame
+  // i is tracked: none of it depends on the tracker's state, and on 2 cores it otherwise sits on
+  // the frame path while tracking, the local map and the keyframe's crease check run on one core.
+  // The result does not depend on it (the features are the same and are tracked in order); an
+  // error is raised at its own frame, as without the prefetch.
+  struct LoadedFrame {
+    std::optional<StereoFeatures> features;
+    double ms_extract = 0;
+    std::exception_ptr error;
+  };
+  auto load = [&](std::size_t i) {
+    LoadedFrame loaded;
+    if (!sequence.HasFrame(i)) return loaded;
+    try {
+      StereoPair pair = sequence.LoadStereoPair(i);
+      if (effective.rectifier) pair = effective.rectifier->Rectify(pair);
+      const auto extract_start = std::chrono::steady_clock::now();
+      loaded.features = tracker.ExtractFeatures(pair.left, pair.right);
+      loaded.ms_extract = std::chrono::duration<double, std::milli>(
+                              std::chrono::steady_clock::now() - extract_start)
+                              .count();
+    } catch (...) {
+      loaded.features.reset();
+      loaded.error = std::current_exception();
+    }
+    return loaded;
+  };
+  // Two frames ahead: frame i + 1's decoding starts with a serial step (two PNGs), during which
+  // a thread that finished tracking frame i had nothing to help with; frame i + 2's work fills
+  // that gap (measured: docs/bench-tracking.md). Slot i % kFramesAhead holds frame i.
+  constexpr std::size_t kFramesAhead = 2;
+  std::array<LoadedFrame, kFramesAhead> ahead;
+  // After `ahead`: on an exception each group waits for the task writing its slot.
+  std::array<tbb::task_group, kFramesAhead> prefetch;
+  for (std::size_t i = 0; i < std::min(total, kFramesAhead); ++i) {
+    prefetch[i].run([&ahead, &load, i] { ahead[i] = load(i); });
+  }
+  for (std::size_t i = 0; i < total; ++i) {
+    const std::size_t slot = i % kFramesAhead;
+    prefetch[slot].wait();
+    LoadedFrame current = std::move(ahead[slot]);
+    ahead[slot] = LoadedFrame{};
+    if (i + kFramesAhead < total) {
+      prefetch[slot].run([&ahead, &load, slot, i] { ahead[slot] = load(i + kFramesAhead); });
+    }
+    std::optional<StereoFeatures> features = std::move(current.features);
+    if (!sequence.HasFrame(i)) {
+      spdlog::warn("frame {}: image missing ({}), pose from the motion model", i,
+                   sequence.MissingFrame(i));
+    } else if (current.error) {
+      try {
+        std::rethrow_exception(current.error);
+      } catch (const InputError& e) {
+        // Frame 0 sets the initial pose and the scale: without it the whole trajectory is wrong.
+        if (i == 0) throw;
+        spdlog::warn("frame {}: {}; frame skipped, pose from the motion model", i, e.what());
+      }
+    }
+    const TrackResult result =
+        features
+            ? tracker.TrackFeatures(std::move(*features), sequence.timestamp(i), current.ms_extract)
+            : tracker.SkipFrame(sequence.timestamp(i));
+    writer.Write(sequence.timestamp(i), result.world_from_cam);
+    if (stats_out) stats_out->Write(result.stats.ToJson() + '\n');
+    summary.stats.push_back(result.stats);
+    summary.world_from_cam.push_back(result.world_from_cam);
+    if (progress) progress->Update(i + 1);
+  }
+  tracker.Finish();
+  // Threaded runs: checks of the last keyframes finished after the last frame's stats line.
+  const std::vector<CreaseCheckStats> late_crease_checks = tracker.TakeUnreportedCreaseChecks();
+  writer.Close();
+  if (stats_out) stats_out->Commit();
+  if (progress) progress->Finish();
+  summary.ba = tracker.ba_counts();
+  summary.lock_events = tracker.lock_events();
+  if (plane_map) summary.final_map_lock = MapLockName(tracker.map_lock());
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  std::vector<double> ba_medians, edge_medians;
+  double tracked_points = 0, plane_residuals = 0;
+  int bas = 0;
+  auto add_crease_check = [&](const CreaseCheckStats& check) {
+    ++summary.crease_keyframes;
+    summary.mean_visible_creases += check.visible_creases;
+    summary.mean_confirmed_creases += check.confirmed_creases;
+    summary.gate_rejected += check.gate_rejected_region + check.gate_rejected_side;
+    if (check.median_edge_px) edge_medians.push_back(*check.median_edge_px);
+  };
+  for (const CreaseCheckStats& check : late_crease_checks) add_crease_check(check);
+  for (const FrameStats& s : summary.stats) {
+    ++summary.frames;
+    summary.skipped += s.skipped ? 1 : 0;
+    summary.lost += s.state == TrackingState::kLost ? 1 : 0;
+    summary.tracked += (!s.skipped && s.state != TrackingState::kLost) ? 1 : 0;
+    summary.keyframes += s.keyframe ? 1 : 0;
+    tracked_points += s.tracked_points;
+    if (s.ba_median_reprojection_px) ba_medians.push_back(*s.ba_median_reprojection_px);
+    if (s.planes_disabled) summary.planes_disabled = *s.planes_disabled;
+    if (s.consensus_correction) ++summary.consensus_corrections;
+    if (s.crease_check) add_crease_check(*s.crease_check);
+    if (s.ba_plane_residuals) {
+      plane_residuals += *s.ba_plane_residuals;
+      ++bas;
+    }
+  }
+  if (bas > 0) summary.mean_ba_plane_residuals = plane_residuals / bas;
+  if (summary.crease_keyframes > 0) {
+    summary.mean_visible_creases /= summary.crease_keyframes;
+    summary.mean_confirmed_creases /= summary.crease_keyframes;
+  }
+  if (!edge_medians.empty()) {
+    std::sort(edge_medians.begin(), edge_medians.end());
+    summary.median_edge_px = edge_medians[edge_medians.size() / 2];
+  }
+  if (summary.frames > 0) summary.mean_tracked_points = tracked_points / summary.frames;
+  if (!ba_medians.empty()) {
+    std::sort(ba_medians.begin(), ba_medians.end());
+    summary.median_ba_reprojection_px = ba_medians[ba_medians.size() / 2];
+  }
+  if (run.summary_path) {
+    std::ofstream out(*run.summary_path);
+    out << summary.ToJson() << '\n';
+    CheckInput(out.good(), run.summary_path->string(), 0, "cannot write the run summary",
+               "check that the folder exists and is writable");
+  }
+  if (run.report_dir) {
+    WriteReportFolder(run, summary, sequence, effective, plane_map ? &*plane_map : nullptr);
+  }
+  return summary;
+}
+
+std::string RunSummary::ToJson() const {
+  return fmt::format(
+      "{{\"frames\":{},\"tracked\":{},\"lost\":{},\"skipped\":{},\"keyframes\":{},"
+      "\"mean_tracked_points\":{:.1f},\"median_ba_reprojection_px\":{:.4f},\"planes\":{},"
+      "\"mean_ba_plane_residuals\":{:.1f},\"planes_disabled\":{},\"consensus_corrections\":{},"
+      "\"seconds\":{:.3f},\"final_map_lock\":\"{}\",\"lock_events\":{},\"local_ba\":{}}}",
+      frames, tracked, lost, skipped, keyframes, mean_tracked_points, median_ba_reprojection_px,
+      planes, mean_ba_plane_residuals, planes_disabled, consensus_corrections, seconds,
+      final_map_lock, lock_events.size(), ba.ToJson());
+}
+
+}  // namespace planeloc

@@ -1,0 +1,99 @@
+// Tracks a whole sequence (a KITTI-layout folder or any StereoSource, e.g. a rosbag): reads frames
+// one at a time, writes one pose per frame (flushed), optional per-frame JSON stats, and the
+// effective settings next to the trajectory.
+// The controller behind `planeloc run`; it does no maths itself.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "planeloc/geometry/rigid3.h"
+#include "planeloc/io/kitti_sequence.h"
+#include "planeloc/io/stereo_source.h"
+#include "planeloc/io/trajectory.h"
+#include "planeloc/pipeline/settings.h"
+#include "planeloc/pipeline/tracker.h"
+
+namespace planeloc {
+
+struct RunOptions {
+  std::filesystem::path sequence;  // KITTI odometry sequence folder or raw drive folder
+  CameraChoice cameras = CameraChoice::kAuto;
+  // Frames from this source (e.g. a rosbag, ros/bag_sequence.h) instead of `sequence`.
+  std::shared_ptr<const StereoSource> source;
+  Rigid3d world_from_cam_initial;         // pose of frame 0; the trajectory is in its frame
+  std::filesystem::path trajectory_path;  // required
+  TrajectoryFormat format = TrajectoryFormat::kKitti;
+  std::optional<std::filesystem::path> stats_path;  // JSON lines, one per frame
+  // One JSON object with the end-of-run summary (RunSummary::ToJson); `planeloc run --stats X`
+  // writes it to X.summary.json.
+  std::optional<std::filesystem::path> summary_path;
+  // ORB-SLAM2 / ORB-SLAM3 settings file and/or planeloc keys (OpenCV FileStorage YAML).
+  std::optional<std::filesystem::path> settings_path;
+  // Track with the settings file's intrinsics and baseline instead of the sequence's calibration
+  // (also chosen by the file's System.calibrationFromSettings: 1). Needs settings_path.
+  bool calibration_from_settings = false;
+  // planes.json of `planeloc map planes`, in the frame of world_from_cam_initial; none: visual
+  // odometry only (the baseline).
+  std::optional<std::filesystem::path> planes_path;
+  // How well world_from_cam_initial is known in the plane map's frame (--init-sigma); exact by
+  // default. Unless exact, the run registers itself to the plane map (prior/map_lock.h).
+  StartPrior start_prior;
+  bool write_effective_settings = true;  // <trajectory>.config.yaml
+  // The folder `planeloc report` reads (eval/html_report.h lists its files), written after the
+  // run: copies of the trajectory, stats, summary, effective settings and plane map, run.json,
+  // and overlays of up to report_keyframe_images keyframes (pipeline/keyframe_overlay.h).
+  std::optional<std::filesystem::path> report_dir;
+  int report_keyframe_images = 4;
+  bool deterministic = false;
+  int threads = 0;     // 0: keep the settings' value
+  int max_frames = 0;  // 0: all
+  bool show_progress = true;
+};
+
+struct RunSummary {
+  int frames = 0;
+  int tracked = 0;  // state tracking or relocalized
+  int lost = 0;
+  int skipped = 0;
+  int keyframes = 0;
+  double mean_tracked_points = 0;
+  double median_ba_reprojection_px = 0;  // median over the BA medians reported
+  int planes = 0;                        // planes in the plane map (0: visual only)
+  double mean_ba_plane_residuals = 0;    // point-to-plane residuals a local BA, on average
+  int planes_disabled = 0;               // planes disabled during the run (biased, see tracking)
+  int consensus_corrections = 0;         // map moves by the planes' consensus (trajectoryConsensus)
+  double seconds = 0;                    // wall time of the tracking loop
+  BaCounts ba;                           // what became of every keyframe's local BA
+  std::vector<FrameStats> stats;         // per frame
+  std::vector<Rigid3d> world_from_cam;   // per frame, as written
+  std::vector<LockEvent> lock_events;    // map-frame corrections, in order
+  std::string final_map_lock;            // "" without a plane map
+  TrackerOptions options;                // effective
+  StereoCamera camera;                   // effective (sequence or settings calibration)
+  // The LSD crease check (crease_check.h) over the checked keyframes: their number, the mean
+  // visible and confirmed creases, the median of their median edge distances (px) and the
+  // associations the crease gate refused.
+  int crease_keyframes = 0;
+  double mean_visible_creases = 0, mean_confirmed_creases = 0;
+  std::optional<double> median_edge_px;
+  int gate_rejected = 0;
+  // The counts above (not the per-frame vectors) as one JSON object.
+  std::string ToJson() const;
+};
+
+// Throws InputError for unreadable input (sequence, settings, output folder).
+RunSummary RunSequence(const RunOptions& options);
+
+// The first pose of a KITTI (12 numbers a line) or TUM (8 numbers) pose file, detected from
+// the first line.
+Rigid3d ReadFirstPose(const std::filesystem::path& path);
+// "12 numbers" (row-major 3x4 world_from_cam).
+Rigid3d ParsePose12(const std::string& text);
+// "S_XY S_Z S_YAW_DEG" of --init-sigma; throws InputError naming the option.
+StartPrior ParseInitSigma(const std::string& text);
+
+}  // namespace planeloc

@@ -1,0 +1,737 @@
+#include "planeloc/pipeline/tracker.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "planeloc/geometry/lie.h"
+#include "planeloc/optim/pose_optimizer.h"
+#include "planeloc/pipeline/ba_worker.h"
+#include "planeloc/prior/window_planes.h"
+#include "planeloc/tracking/keyframe_rule.h"
+#include "planeloc/tracking/local_mapping.h"
+#include "planeloc/tracking/map_maintenance.h"
+#include "planeloc/tracking/matcher.h"
+#include "planeloc/tracking/triangulation.h"
+
+namespace planeloc {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MillisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void RecordBaStats(const BaJob& job, const BaApplyStats& applied, FrameStats& stats) {
+  stats.ba_median_reprojection_px = applied.median_reprojection_px;
+  stats.ba_plane_residuals = job.result.num_plane_residuals;
+  int free_keyframes = 0;
+  for (const WindowKeyframe& kf : job.problem.keyframes) free_keyframes += !kf.fixed;
+  stats.ba_window_keyframes = free_keyframes;
+}
+
+}  // namespace
+
+const char* TrackingStateName(TrackingState state) {
+  switch (state) {
+    case TrackingState::kTracking:
+      return "tracking";
+    case TrackingState::kLost:
+      return "lost";
+    case TrackingState::kRelocalized:
+      return "relocalized";
+  }
+  return "unknown";
+}
+
+std::string FrameStats::ToJson() const {
+  std::string json = fmt::format(
+      "{{\"frame\":{},\"state\":\"{}\",\"skipped\":{},\"features\":{},\"stereo_matches\":{},"
+      "\"tracked_points\":{},\"inliers\":{},\"keyframe\":{},\"ms\":{{\"extract\":{:.3f},"
+      "\"track\":{:.3f},\"local_map\":{:.3f},\"ba\":{:.3f}}}",
+      frame, TrackingStateName(state), skipped ? "true" : "false", features, stereo_matches,
+      tracked_points, inliers, keyframe ? "true" : "false", ms_extract, ms_track, ms_local_map,
+      ms_ba);
+  if (keyframe_id) json += fmt::format(",\"keyframe_id\":{}", *keyframe_id);
+  if (ba_median_reprojection_px) {
+    json += fmt::format(",\"ba_median_reprojection_px\":{:.4f}", *ba_median_reprojection_px);
+  }
+  if (ba_plane_residuals) json += fmt::format(",\"ba_plane_residuals\":{}", *ba_plane_residuals);
+  if (ba_window_keyframes) {
+    json += fmt::format(",\"ba_window_keyframes\":{}", *ba_window_keyframes);
+  }
+  if (ba_discarded) json += ",\"ba_discarded\":true";
+  if (ba_keyframe) json += fmt::format(",\"ba_keyframe\":{}", *ba_keyframe);
+  if (!map_lock.empty()) json += fmt::format(",\"map_lock\":\"{}\"", map_lock);
+  if (registration) json += ",\"registration\":" + *registration;
+  if (planes_disabled) json += fmt::format(",\"planes_disabled\":{}", *planes_disabled);
+  if (consensus_correction) {
+    json +=
+        fmt::format(",\"consensus_correction\":[{:.4f},{:.4f},{:.4f}]", consensus_correction->x(),
+                    consensus_correction->y(), consensus_correction->z());
+  }
+  if (crease_check) json += ",\"crease_check\":" + crease_check->ToJson();
+  return json + "}";
+}
+
+std::string BaCounts::ToJson() const {
+  return fmt::format(
+      "{{\"keyframes\":{},\"applied\":{},\"superseded\":{},\"discarded\":{},\"unusable\":{},"
+      "\"empty\":{},\"stale_keyframes\":{},\"stale_points\":{},\"culled_keyframes\":{},"
+      "\"forgotten_keyframes\":{}}}",
+      keyframes, applied, superseded, discarded, unusable, empty, stale_keyframes, stale_points,
+      culled_keyframes, forgotten_keyframes);
+}
+
+Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
+                 const Rigid3d& world_from_cam_initial, const PlaneMap* plane_map,
+                 const StartPrior& start_prior)
+    : camera_(camera),
+      options_(options),
+      extractor_(options.orb),
+      map_(ScaleModel{options.orb.scale_factor, options.orb.num_levels}),
+      cam_from_world_initial_(world_from_cam_initial.Inverse()) {
+  options_.Check();
+  camera_.Check();
+  // Ceres sums in thread order: one thread for bit-identical runs.
+  options_.ba.num_threads = options_.deterministic    ? 1
+                            : options_.ba_threads > 0 ? options_.ba_threads
+                                                      : options_.num_threads;
+  if (plane_map) {
+    planes_ = std::make_unique<PlaneAssociator>(*plane_map, options_.planes);
+    // An exact start is locked from frame 0; the locker still re-registers after a loss.
+    locker_ = std::make_unique<MapLocker>(*plane_map, options_.map_lock, start_prior,
+                                          world_from_cam_initial, !options_.deterministic);
+  } else {
+    options_.ba.lambda = 1.0;  // nothing to weigh the reprojection against
+  }
+  if (!options_.deterministic) {
+    ba_worker_ = std::make_unique<BaWorker>(camera_, options_.ba,
+                                            planes_ ? planes_->crease_checker() : nullptr);
+  }
+}
+
+Tracker::~Tracker() = default;
+
+TrackResult Tracker::Track(const cv::Mat& left, const cv::Mat& right, double timestamp) {
+  const auto start = Clock::now();
+  StereoFeatures features = ExtractFeatures(left, right);
+  return TrackFeatures(std::move(features), timestamp, MillisecondsSince(start));
+}
+
+StereoFeatures Tracker::ExtractFeatures(const cv::Mat& left, const cv::Mat& right) const {
+  return ExtractStereoFeatures(left, right, camera_, extractor_, options_.stereo);
+}
+
+Rigid3d Tracker::PredictPose() const {
+  if (!last_frame_) return cam_from_world_initial_;
+  Rigid3d pose = last_frame_->cam_from_world;
+  if (velocity_) {
+    Rigid3d step = *velocity_;
+    if (frames_skipped_ > 0) {
+      // Across an outage only the heading rate persists (a car turns for seconds); pitch and roll
+      // rates are suspension oscillation, and extrapolated over many frames they tilt the
+      // predicted pose by degrees. The camera's y axis is the vehicle's vertical.
+      const Eigen::Vector3d omega = LogSO3(step.RotationMatrix());
+      step.rotation = Eigen::Quaterniond(ExpSO3(Eigen::Vector3d(0, omega.y(), 0)));
+    }
+    for (int k = 0; k <= frames_skipped_; ++k) pose = step * pose;
+  }
+  return pose;
+}
+
+TrackResult Tracker::SkipFrame(double timestamp) {
+  (void)timestamp;  // the pose only depends on the frame count
+  TrackResult result;
+  result.stats.frame = next_frame_id_++;
+  result.stats.skipped = true;
+  if (planes_) result.stats.map_lock = MapLockName(map_lock());
+  result.stats.state = last_frame_ ? TrackingState::kTracking : TrackingState::kLost;
+  const Rigid3d pose = PredictPose();
+  // The last frame stays the one with features; the next prediction steps once more.
+  if (last_frame_) ++frames_skipped_;
+  result.world_from_cam = pose.Inverse();
+  return result;
+}
+
+TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, double ms_extract) {
+  FrameStats stats;
+  stats.frame = next_frame_id_;
+  stats.ms_extract = ms_extract;
+  stats.features = static_cast<int>(features.left.keypoints.size());
+  stats.stereo_matches = features.num_stereo_matches();
+  left_pyramid_ = features.left.pyramid;  // shallow: the Frame drops its own
+  Frame frame(next_frame_id_++, timestamp, std::move(features), camera_);
+
+  const auto track_start = Clock::now();
+  const bool ba_overdue = ba_submitted_frame_ && options_.ba_max_lag_frames > 0 &&
+                          stats.frame - *ba_submitted_frame_ >= options_.ba_max_lag_frames;
+  ApplyBaResults(stats, /*wait=*/ba_overdue);
+  if (ba_overdue) {
+    ba_submitted_frame_.reset();  // also when the worker had no result to give
+    stats.ms_ba += MillisecondsSince(track_start);
+  }
+  ReportCreaseCheck(stats);
+  ApplyLockResults(stats, nullptr, /*wait=*/false);
+  SubmitDeferredBa(stats);
+  if (planes_) stats.map_lock = MapLockName(map_lock());
+  const Rigid3d predicted = PredictPose();
+  bool tracked = false;
+  if (last_frame_) {
+    tracked = (velocity_ && TrackMotionModel(frame, predicted)) ||
+              TrackReferenceKeyframe(frame, predicted);
+  }
+  stats.ms_track = MillisecondsSince(track_start);
+  if (tracked) {
+    const auto local_start = Clock::now();
+    tracked = TrackLocalMap(frame, stats);
+    stats.ms_local_map = MillisecondsSince(local_start);
+  }
+
+  if (!tracked && last_frame_ && stats.stereo_matches < options_.min_tracked_inliers) {
+    // Lost on a frame too poor to restart from (blank, blinded): predict, keep the last good
+    // frame as the motion model's base, and try again on the next frame.
+    stats.state = TrackingState::kLost;
+    lost_before_ = true;
+    ++frames_skipped_;
+    return {predicted.Inverse(), stats};
+  }
+  bool make_keyframe = false;
+  if (tracked) {
+    stats.state = lost_before_ ? TrackingState::kRelocalized : TrackingState::kTracking;
+    lost_before_ = false;
+    // Per-frame velocity, also across skipped frames (the relative motion spread evenly).
+    const Rigid3d step = frame.cam_from_world * last_frame_->cam_from_world.Inverse();
+    velocity_ = frames_skipped_ == 0 ? step : ExpSE3(LogSE3(step) / (frames_skipped_ + 1));
+    make_keyframe = NeedKeyframe(frame, stats.inliers);
+  } else {
+    // First frame, or loss: start (again) from this frame's stereo at the predicted pose.
+    stats.state = last_frame_ ? TrackingState::kLost : TrackingState::kTracking;
+    lost_before_ = last_frame_.has_value();
+    frame.cam_from_world = predicted;
+    // The new map is tied to the old one only by the motion model: register it again.
+    if (locker_ && last_frame_) locker_->OnLoss(predicted.Inverse(), map_.last_keyframe_id() + 1);
+    std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
+    std::fill(frame.outlier.begin(), frame.outlier.end(), false);
+    make_keyframe = true;
+  }
+  if (make_keyframe) InsertKeyframe(frame, stats);
+
+  // Outliers are forgotten: the next frame searches only the confirmed matches.
+  for (int i = 0; i < frame.size(); ++i) {
+    if (frame.outlier[i]) frame.map_point_ids[i] = -1;
+    frame.outlier[i] = false;
+  }
+  stats.tracked_points = frame.NumTracked();
+  if (!tracked) stats.inliers = 0;
+  if (planes_) stats.map_lock = MapLockName(map_lock());
+  last_from_reference_ =
+      frame.cam_from_world * map_.keyframe(reference_keyframe_id_).cam_from_world.Inverse();
+  TrackResult result;
+  result.world_from_cam = frame.cam_from_world.Inverse();
+  result.stats = stats;
+  last_frame_ = std::move(frame);
+  frames_skipped_ = 0;
+  return result;
+}
+
+bool Tracker::TrackMotionModel(Frame& frame, const Rigid3d& predicted) {
+  const Frame& last = *last_frame_;
+  MatchOptions match_options;
+  match_options.check_orientation = true;
+  std::vector<MatchSource> sources;
+  std::vector<ProjectionMatch> matches;
+  frame.cam_from_world = predicted;
+  for (double factor : {1.0, 2.0}) {
+    sources =
+        SourcesFromFrame(last, camera_, map_, predicted, factor * options_.motion_search_radius,
+                         options_.orb.scale_factor, CloseDepth());
+    matches = MatchByProjection(sources, frame, camera_, match_options);
+    if (static_cast<int>(matches.size()) >= options_.min_motion_matches) break;
+  }
+  if (static_cast<int>(matches.size()) < options_.min_motion_matches) return false;
+
+  // Pose from map points and the last frame's temporary stereo points together.
+  std::vector<PoseObservation> observations;
+  for (const ProjectionMatch& m : matches) {
+    const cv::KeyPoint& kp = frame.keypoint(m.keypoint);
+    observations.push_back({sources[m.source].point_in_world, kp.pt.x, kp.pt.y,
+                            frame.features.u_right[m.keypoint],
+                            extractor_.InverseLevelSigma2(kp.octave)});
+  }
+  const PoseOptimizerResult result = OptimizePose(camera_, predicted, observations, options_.pose);
+  if (result.num_inliers < 10) return false;
+  frame.cam_from_world = result.cam_from_world;
+  for (std::size_t k = 0; k < matches.size(); ++k) {
+    const int id = sources[matches[k].source].map_point_id;
+    if (id >= 0 && result.inlier[k]) frame.map_point_ids[matches[k].keypoint] = id;
+  }
+  return true;
+}
+
+bool Tracker::TrackReferenceKeyframe(Frame& frame, const Rigid3d& predicted) {
+  if (!map_.HasKeyframe(reference_keyframe_id_)) return false;
+  std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
+  const Keyframe& reference = map_.keyframe(reference_keyframe_id_);
+  // A wide window around the prediction, then around the last pose (the motion changed), then
+  // the whole image with a strict ratio test. Without a velocity yet (second frame) the
+  // prediction is "no motion", often metres off: only the whole-image search is reliable.
+  struct Stage {
+    double radius;
+    Rigid3d pose;
+    double ratio;
+  };
+  constexpr double kWholeImage = 4000.0;
+  std::vector<Stage> stages;
+  if (velocity_) {
+    stages.push_back({25.0, predicted, 0.9});
+    stages.push_back({60.0, last_frame_->cam_from_world, 0.9});
+  }
+  stages.push_back({kWholeImage, last_frame_->cam_from_world, 0.8});
+  for (const Stage& stage : stages) {
+    MatchOptions match_options;
+    match_options.check_orientation = true;
+    match_options.ratio = stage.ratio;
+    match_options.ratio_across_levels = stage.radius >= kWholeImage;
+    match_options.check_right = stage.radius < kWholeImage;
+    frame.cam_from_world = stage.pose;
+    const std::vector<MatchSource> sources =
+        SourcesFromKeyframe(reference, map_, stage.radius, options_.orb.scale_factor);
+    const std::vector<ProjectionMatch> matches =
+        MatchByProjection(sources, frame, camera_, match_options);
+    if (static_cast<int>(matches.size()) < 15) continue;
+    for (const ProjectionMatch& m : matches) {
+      frame.map_point_ids[m.keypoint] = sources[m.source].map_point_id;
+    }
+    std::fill(frame.outlier.begin(), frame.outlier.end(), false);
+    if (OptimizeFramePose(frame) >= 10) return true;
+    std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
+  }
+  return false;
+}
+
+int Tracker::OptimizeFramePose(Frame& frame) {
+  std::vector<PoseObservation> observations;
+  std::vector<int> keypoints;
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id < 0 || !map_.HasPoint(id)) {
+      frame.map_point_ids[i] = -1;
+      continue;
+    }
+    const cv::KeyPoint& kp = frame.keypoint(i);
+    observations.push_back({map_.point(id).point_in_world, kp.pt.x, kp.pt.y,
+                            frame.features.u_right[i], extractor_.InverseLevelSigma2(kp.octave)});
+    keypoints.push_back(i);
+  }
+  if (observations.size() < 3) return 0;
+  const PoseOptimizerResult result =
+      OptimizePose(camera_, frame.cam_from_world, observations, options_.pose);
+  frame.cam_from_world = result.cam_from_world;
+  for (std::size_t k = 0; k < keypoints.size(); ++k)
+    frame.outlier[keypoints[k]] = !result.inlier[k];
+  return result.num_inliers;
+}
+
+std::vector<int> Tracker::LocalPointIds(const Frame& frame) {
+  // Keyframes sharing points with the frame, by shared count, then their covisible neighbours.
+  std::map<int, int> counts;
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id < 0 || frame.outlier[i] || !map_.HasPoint(id)) continue;
+    for (const auto& [kf_id, keypoint] : map_.point(id).observations) ++counts[kf_id];
+  }
+  std::vector<std::pair<int, int>> ranked;  // (-count, id)
+  for (const auto& [kf_id, count] : counts) ranked.emplace_back(-count, kf_id);
+  std::sort(ranked.begin(), ranked.end());
+  if (!ranked.empty()) reference_keyframe_id_ = ranked.front().second;
+  std::set<int> local;
+  for (const auto& [neg, kf_id] : ranked) {
+    if (static_cast<int>(local.size()) >= options_.max_local_keyframes) break;
+    local.insert(kf_id);
+  }
+  for (const auto& [neg, kf_id] : ranked) {
+    if (static_cast<int>(local.size()) >= options_.max_local_keyframes) break;
+    for (int neighbour : map_.BestCovisible(kf_id, 10)) local.insert(neighbour);
+  }
+  if (map_.HasKeyframe(reference_keyframe_id_)) local.insert(reference_keyframe_id_);
+  std::set<int> point_ids;
+  for (int kf_id : local) {
+    for (int id : map_.keyframe(kf_id).map_point_ids) {
+      if (id >= 0) point_ids.insert(id);
+    }
+  }
+  for (int id : frame.map_point_ids) {
+    if (id >= 0) point_ids.erase(id);
+  }
+  return {point_ids.begin(), point_ids.end()};
+}
+
+bool Tracker::TrackLocalMap(Frame& frame, FrameStats& stats) {
+  // Points already matched count as seen in this frame.
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id >= 0 && map_.HasPoint(id)) ++map_.mutable_point(id).visible;
+  }
+  const std::vector<int> local_ids = LocalPointIds(frame);
+  std::vector<int> visible;
+  const std::vector<MatchSource> sources =
+      SourcesFromLocalMap(local_ids, map_, frame, camera_, options_.local_search_radius, &visible);
+  for (int id : visible) ++map_.mutable_point(id).visible;
+  MatchOptions match_options;
+  match_options.ratio = 0.8;
+  for (const ProjectionMatch& m : MatchByProjection(sources, frame, camera_, match_options)) {
+    frame.map_point_ids[m.keypoint] = sources[m.source].map_point_id;
+  }
+  std::fill(frame.outlier.begin(), frame.outlier.end(), false);
+  const int inliers = OptimizeFramePose(frame);
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id >= 0 && !frame.outlier[i]) ++map_.mutable_point(id).found;
+  }
+  stats.inliers = inliers;
+  return inliers >= options_.min_tracked_inliers;
+}
+
+bool Tracker::NeedKeyframe(const Frame& frame, int inliers) const {
+  const int num_keyframes = static_cast<int>(map_.keyframes().size());
+  const int min_observations = num_keyframes <= 2 ? 2 : 3;
+  const int reference_matches =
+      map_.HasKeyframe(reference_keyframe_id_)
+          ? map_.NumTrackedPoints(reference_keyframe_id_, min_observations)
+          : 0;
+  int tracked_close = 0, untracked_close = 0;
+  for (int i = 0; i < frame.size(); ++i) {
+    const float depth = frame.features.depth[i];
+    if (depth <= 0 || depth >= CloseDepth()) continue;
+    if (frame.map_point_ids[i] >= 0 && !frame.outlier[i]) {
+      ++tracked_close;
+    } else {
+      ++untracked_close;
+    }
+  }
+  const bool need_close = tracked_close < options_.keyframe_min_close_tracked &&
+                          untracked_close > options_.keyframe_min_close_untracked;
+  KeyframeRuleInput input;
+  input.frames_since_keyframe = frame.id - last_keyframe_frame_id_;
+  input.mapping_idle = MappingIdle();
+  input.inliers = inliers;
+  input.reference_matches = reference_matches;
+  input.need_close = need_close;
+  KeyframeRuleOptions rule;
+  rule.min_frames = options_.keyframe_min_frames;
+  rule.max_frames = static_cast<int>(std::lround(options_.fps));
+  rule.tracked_ratio = options_.keyframe_tracked_ratio;
+  return DecideKeyframe(input, rule).insert;
+}
+
+bool Tracker::MappingIdle() const {
+  return !ba_worker_ || (!deferred_ba_keyframe_ && ba_worker_->Idle());
+}
+
+void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
+  const auto start = Clock::now();
+  stats.keyframe = true;
+  const int kf_id = map_.AddKeyframe(frame);
+  stats.keyframe_id = kf_id;
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id < 0 || frame.outlier[i] || !map_.HasPoint(id)) continue;
+    map_.AddObservation(id, kf_id, i);
+    map_.UpdatePoint(id);
+  }
+  const std::vector<int> created = CreateStereoPoints(map_, kf_id, camera_, options_);
+  recent_point_ids_.insert(recent_point_ids_.end(), created.begin(), created.end());
+  CullRecentPoints(map_, recent_point_ids_, kf_id, options_);
+  map_.UpdateConnections(kf_id);
+  if (options_.triangulate_with_neighbours) {
+    TriangulationOptions triangulation;
+    triangulation.num_neighbours = options_.triangulation_neighbours;
+    const std::vector<int> triangulated =
+        TriangulateWithNeighbours(map_, kf_id, camera_, triangulation);
+    recent_point_ids_.insert(recent_point_ids_.end(), triangulated.begin(), triangulated.end());
+    if (!triangulated.empty()) map_.UpdateConnections(kf_id);
+  }
+  MaintainMap(kf_id);
+  // The frame now observes what the keyframe observes (new points included).
+  frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
+  std::fill(frame.outlier.begin(), frame.outlier.end(), false);
+  reference_keyframe_id_ = kf_id;
+  last_keyframe_frame_id_ = frame.id;
+  stats.ms_local_map += MillisecondsSince(start);
+
+  const auto ba_start = Clock::now();
+  if (planes_ && settle_until_keyframe_id_ >= 0 && kf_id >= settle_until_keyframe_id_) {
+    planes_->SetTrajectoryCovariance(Eigen::Matrix3d::Zero());
+    settle_until_keyframe_id_ = -1;
+  }
+  // The crease check needs this keyframe's image: taken now, even if its BA waits for the worker,
+  // and checked here or (Planes.creaseCheckOnWorker, threaded) queued on the worker.
+  if (planes_ && (!locker_ || locker_->PlanesActive())) {
+    if (ba_worker_ && options_.planes.crease_check_on_worker) {
+      const cv::Mat image = planes_->CreaseCheckImage(left_pyramid_);
+      if (!image.empty()) {
+        ba_worker_->SubmitCreaseCheck(
+            {kf_id, frame.cam_from_world, correction_epoch_, image.clone(), std::nullopt});
+      }
+    } else {
+      stats.crease_check =
+          planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
+    }
+  }
+  ++ba_counts_.keyframes;
+  if (ba_worker_) {
+    if (MappingIdle()) {
+      SubmitBa(kf_id, stats, &frame);
+    } else {
+      // The worker is busy: this keyframe's window is built once the running BA has been applied.
+      // A keyframe still waiting is superseded (its neighbourhood is in the new window).
+      if (deferred_ba_keyframe_) ++ba_counts_.superseded;
+      deferred_ba_keyframe_ = kf_id;
+    }
+  } else if (std::optional<BaJob> job = MakeBaJob(kf_id, stats, &frame)) {
+    SolveBaJob(camera_, options_.ba, *job);
+    const BaApplyStats applied = ApplyWindowBa(map_, job->problem, job->result, camera_);
+    if (job->result.usable) {
+      RecordBaStats(*job, applied, stats);
+      stats.ba_keyframe = kf_id;
+      ++ba_counts_.applied;
+    } else {
+      ++ba_counts_.unusable;
+    }
+    frame.cam_from_world = map_.keyframe(kf_id).cam_from_world;
+    frame.map_point_ids = map_.keyframe(kf_id).map_point_ids;
+  }
+  stats.ms_ba += MillisecondsSince(ba_start);
+  if (locker_) {
+    locker_->OnKeyframe(map_, kf_id, camera_);
+    ApplyLockResults(stats, &frame, /*wait=*/false);
+  }
+}
+
+void Tracker::MaintainMap(int keyframe_id) {
+  const MapMaintenanceOptions& maintenance = options_.maintenance;
+  if (maintenance.fuse_points) {
+    const std::vector<int> dropped = FuseWithNeighbours(map_, keyframe_id, camera_, maintenance);
+    if (planes_) {
+      for (const int id : dropped) planes_->ForgetPoint(id);
+    }
+  }
+  // A keyframe whose BA still has to be built must exist then; the tracker's reference keyframe
+  // re-anchors the last frame after every BA.
+  std::set<int> keep = {keyframe_id};
+  if (deferred_ba_keyframe_) keep.insert(*deferred_ba_keyframe_);
+  if (reference_keyframe_id_ >= 0) keep.insert(reference_keyframe_id_);
+  if (maintenance.cull_keyframes) {
+    ba_counts_.culled_keyframes += static_cast<int>(
+        CullRedundantKeyframes(map_, keyframe_id, CloseDepth(), maintenance, keep).size());
+  }
+  ba_counts_.forgotten_keyframes +=
+      static_cast<int>(ForgetOldKeyframes(map_, maintenance, keep).size());
+}
+
+std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Frame* current) {
+  BaJob job;
+  job.keyframe_id = keyframe_id;
+  // Before the map lock the planes' frame is unknown: visual BA only.
+  const bool planes_active = planes_ && (!locker_ || locker_->PlanesActive());
+  TrackerOptions window_options = options_;
+  if (lock_window_pending_ && planes_active) {
+    // The lock left the trajectory off by the registration's error, anchors included: one
+    // window over the segment, every keyframe free, lets the planes pull all of it at once.
+    window_options.ba_window_keyframes = options_.map_lock.structure_keyframes;
+    window_options.ba_window_keyframes_turn = options_.map_lock.structure_keyframes;
+    window_options.ba_max_fixed_keyframes = 0;
+    window_options.ba_fix_first_keyframe = false;
+    lock_window_pending_ = false;
+  }
+  job.problem = BuildLocalWindow(map_, keyframe_id, window_options);
+  if (planes_active) AssociateWindowPlanes(job.problem, map_, camera_, options_.planes, *planes_);
+  // With lambda = 1 the planes do not act on the trajectory (the ablation's "no plane term").
+  if (planes_active && options_.planes.trajectory_consensus && options_.ba.lambda < 1.0) {
+    // The window BA cannot pull the trajectory back by the offset itself: its fixed anchor
+    // keyframes carry the same error, and the visual terms hold the window rigidly to them. Two
+    // windows in a row agreeing on the offset move the whole map by it instead, as a lock does
+    // (not while a registration of the map lock runs: its correction would undo this one).
+    const Eigen::Vector3d offset = planes_->trajectory_offset();
+    const double tolerance = 2.0 * options_.planes.consensus_tolerance;
+    if (offset.isZero()) {
+      previous_consensus_.reset();
+    } else if (previous_consensus_ && (offset - *previous_consensus_).norm() <= tolerance &&
+               (!locker_ || locker_->Idle())) {
+      MapCorrection correction;
+      correction.map_from_world = Rigid3d(Eigen::Quaterniond::Identity(), -offset);
+      correction.first_keyframe_id = 0;
+      ApplyCorrection(correction, current, stats.frame, /*from_lock=*/false);
+      stats.consensus_correction = -offset;
+      ++consensus_corrections_;
+      previous_consensus_.reset();
+      job.problem = BuildLocalWindow(map_, keyframe_id, options_);
+      AssociateWindowPlanes(job.problem, map_, camera_, options_.planes, *planes_);
+    } else {
+      previous_consensus_ = offset;
+    }
+  }
+  if (planes_) stats.planes_disabled = planes_->num_disabled();
+  if (planes_ && stats.crease_check) planes_->FillGateStats(*stats.crease_check);
+  if (job.problem.observations.empty()) {
+    ++ba_counts_.empty;  // a keyframe without points
+    return std::nullopt;
+  }
+  job.snapshot = SnapshotWindow(map_, job.problem);
+  job.correction_epoch = correction_epoch_;
+  return job;
+}
+
+void Tracker::SubmitBa(int keyframe_id, FrameStats& stats, Frame* current) {
+  std::optional<BaJob> job = MakeBaJob(keyframe_id, stats, current);
+  // MappingIdle() held: the worker accepts the job.
+  if (!job) return;
+  if (ba_worker_->Submit(std::move(*job))) {
+    ba_submitted_frame_ = stats.frame;
+  } else {
+    ++ba_counts_.superseded;
+  }
+}
+
+void Tracker::SubmitDeferredBa(FrameStats& stats) {
+  if (!ba_worker_ || !deferred_ba_keyframe_ || !ba_worker_->Idle()) return;
+  const int keyframe_id = *deferred_ba_keyframe_;
+  deferred_ba_keyframe_.reset();
+  if (!map_.HasKeyframe(keyframe_id)) {
+    ++ba_counts_.empty;
+    return;
+  }
+  const auto start = Clock::now();
+  SubmitBa(keyframe_id, stats, nullptr);
+  stats.ms_ba += MillisecondsSince(start);
+}
+
+void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
+  if (!ba_worker_) return;
+  std::optional<BaJob> job = wait ? ba_worker_->WaitResult() : ba_worker_->TakeResult();
+  if (!job) return;
+  ba_submitted_frame_.reset();
+  if (job->correction_epoch != correction_epoch_) {
+    // Solved in the frame before a map-lock correction: applying it would undo the correction.
+    stats.ba_discarded = true;
+    ++ba_counts_.discarded;
+    return;
+  }
+  if (!job->result.usable) {
+    ++ba_counts_.unusable;
+    return;
+  }
+  const BaApplyStats applied =
+      ApplyWindowBa(map_, job->problem, job->result, camera_, &job->snapshot);
+  RecordBaStats(*job, applied, stats);
+  stats.ba_keyframe = job->keyframe_id;
+  ++ba_counts_.applied;
+  ba_counts_.stale_keyframes += applied.stale_keyframes;
+  ba_counts_.stale_points += applied.stale_points;
+  if (last_frame_ && map_.HasKeyframe(reference_keyframe_id_)) {
+    last_frame_->cam_from_world =
+        last_from_reference_ * map_.keyframe(reference_keyframe_id_).cam_from_world;
+  }
+}
+
+std::vector<CreaseCheckStats> Tracker::TakeUnreportedCreaseChecks() {
+  std::vector<CreaseCheckStats> checks(crease_stats_ready_.begin(), crease_stats_ready_.end());
+  crease_stats_ready_.clear();
+  return checks;
+}
+
+void Tracker::CollectCreaseChecks(bool wait) {
+  if (!ba_worker_) return;
+  for (CreaseCheckJob& check :
+       wait ? ba_worker_->WaitCreaseChecks() : ba_worker_->TakeCreaseChecks()) {
+    if (!check.result) continue;
+    check.result->stats.keyframe_id = check.keyframe_id;
+    crease_stats_ready_.push_back(check.result->stats);
+    // The gate's label image is in the map frame of its time: useless after a correction.
+    if (check.correction_epoch == correction_epoch_) {
+      planes_->KeepCreaseCheck(check.keyframe_id, std::move(*check.result));
+    }
+  }
+}
+
+void Tracker::ReportCreaseCheck(FrameStats& stats) {
+  CollectCreaseChecks(/*wait=*/false);
+  if (crease_stats_ready_.empty()) return;
+  stats.crease_check = crease_stats_ready_.front();
+  crease_stats_ready_.pop_front();
+  planes_->FillGateStats(*stats.crease_check);
+}
+
+void Tracker::ApplyLockResults(FrameStats& stats, Frame* current, bool wait) {
+  if (!locker_) return;
+  auto finished = locker_->TakeResult(wait);
+  if (!finished) return;
+  const auto& [report, correction] = *finished;
+  stats.registration = report.ToJson();
+  if (correction) ApplyCorrection(*correction, current, stats.frame);
+}
+
+void Tracker::ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id,
+                              bool from_lock) {
+  const Rigid3d& map_from_world = correction.map_from_world;
+  // A lock that confirms the current estimate (every registered DoF held, prior/lock_fusion.h)
+  // moves nothing: BA results and crease checks in flight stay valid.
+  const bool moves =
+      !(map_from_world.translation.isZero(0.0) && map_from_world.rotation.vec().isZero(0.0));
+  if (moves) MoveSegment(correction, current);
+  if (from_lock) LockBookkeeping(correction, frame_id);
+}
+
+void Tracker::MoveSegment(const MapCorrection& correction, Frame* current) {
+  const Rigid3d& map_from_world = correction.map_from_world;
+  const Rigid3d world_from_map = map_from_world.Inverse();
+  for (const auto& [kf_id, keyframe] : map_.keyframes()) {
+    if (kf_id < correction.first_keyframe_id) continue;
+    map_.SetKeyframePose(kf_id, keyframe.cam_from_world * world_from_map);
+  }
+  std::vector<int> moved;
+  for (const auto& [id, point] : map_.points()) {
+    if (point.first_keyframe_id < correction.first_keyframe_id) continue;
+    moved.push_back(id);
+  }
+  for (const int id : moved) {
+    map_.SetPointPosition(id, map_from_world * map_.point(id).point_in_world);
+  }
+  for (const int id : moved) map_.UpdatePointGeometry(id);
+  // Velocity and pose relative to the reference keyframe are frame-free: they stay.
+  if (last_frame_) last_frame_->cam_from_world = last_frame_->cam_from_world * world_from_map;
+  if (current) current->cam_from_world = current->cam_from_world * world_from_map;
+  ++correction_epoch_;
+}
+
+void Tracker::LockBookkeeping(const MapCorrection& correction, int frame_id) {
+  const Rigid3d& map_from_world = correction.map_from_world;
+  if (planes_) {
+    // Until the window BA has pulled the trajectory onto the planes, a plane's points may sit off
+    // it by the lock's own error: that is no evidence against the plane.
+    planes_->ResetHealth();
+    planes_->SetTrajectoryCovariance(correction.camera_position_covariance);
+    settle_until_keyframe_id_ = map_.last_keyframe_id() + options_.map_lock.settle_keyframes;
+  }
+  if (locker_->state() == MapLock::kLocked && !correction.recorrection) lock_window_pending_ = true;
+  lock_events_.push_back({frame_id, locker_->state(), map_from_world, correction.first_keyframe_id,
+                          correction.recorrection});
+}
+
+void Tracker::Finish() {
+  FrameStats ignored;
+  ApplyBaResults(ignored, /*wait=*/true);
+  ApplyLockResults(ignored, nullptr, /*wait=*/true);
+  // The last keyframe's deferred BA: solved and applied, so that every keyframe is accounted for.
+  SubmitDeferredBa(ignored);
+  ApplyBaResults(ignored, /*wait=*/true);
+  CollectCreaseChecks(/*wait=*/true);
+}
+
+}  // namespace planeloc

@@ -1,0 +1,237 @@
+// Stereo visual odometry of the ORB-SLAM2 class with loop closing off.
+//
+// Per frame: ORB + stereo features -> constant-velocity prediction and guided search against
+// the previous frame (fallback: the reference keyframe with a wider window) -> pose-only
+// optimization -> local-map search over covisible keyframes -> pose-only optimization ->
+// keyframe decision -> (keyframe) new stereo points, point culling, local window BA.
+// On loss the tracker re-initializes from the frame's stereo at the predicted pose and goes on.
+//
+// Threads: feature extraction uses TBB inside features/; the local BA runs on a BaWorker
+// thread, or in line when options.deterministic (bit-identical runs). With the worker, a
+// keyframe inserted while a BA runs gets its BA when the running one has been applied (only the
+// newest such keyframe: an older one is counted as superseded), and a result applies only to the
+// keyframes and points that were not moved since its window was built (BaCounts).
+#pragma once
+
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "planeloc/features/orb_extractor.h"
+#include "planeloc/geometry/camera.h"
+#include "planeloc/geometry/rigid3.h"
+#include "planeloc/io/plane_map.h"
+#include "planeloc/pipeline/ba_worker.h"
+#include "planeloc/pipeline/settings.h"
+#include "planeloc/prior/map_lock.h"
+#include "planeloc/prior/plane_association.h"
+#include "planeloc/tracking/frame.h"
+#include "planeloc/tracking/map.h"
+
+namespace planeloc {
+
+enum class TrackingState {
+  kTracking,     // tracked against the map
+  kLost,         // not tracked: pose from the motion model, map re-initialized from stereo
+  kRelocalized,  // first tracked frame after a loss (against the re-initialized map)
+};
+const char* TrackingStateName(TrackingState state);
+
+struct FrameStats {
+  int frame = 0;
+  TrackingState state = TrackingState::kTracking;
+  bool skipped = false;  // images missing: motion-model pose only
+  int features = 0;
+  int stereo_matches = 0;
+  int tracked_points = 0;  // map points matched in the frame (inliers of the final optimization)
+  int inliers = 0;         // inliers of the final pose optimization
+  bool keyframe = false;
+  std::optional<int> keyframe_id;  // the keyframe this frame became (ba_keyframe refers to it)
+  double ms_extract = 0, ms_track = 0, ms_local_map = 0, ms_ba = 0;
+  // Median stereo reprojection error (pixels) after the last applied local BA, when one was
+  // applied during this frame.
+  std::optional<double> ba_median_reprojection_px;
+  // Of that BA: point-to-plane residuals (plane mode) and free keyframes of its window.
+  std::optional<int> ba_plane_residuals;
+  std::optional<int> ba_window_keyframes;
+  // A BA result dropped because the map moved to the map frame while it ran.
+  bool ba_discarded = false;
+  // Keyframe whose local BA result was applied during this frame.
+  std::optional<int> ba_keyframe;
+  // With a plane map: the map lock after this frame (searching | partial | locked), and the
+  // registration attempt that finished during this frame, as JSON.
+  std::string map_lock;
+  std::optional<std::string> registration;
+  // Plane mode, keyframes: planes of the map disabled so far (their points sit off them).
+  std::optional<int> planes_disabled;
+  // Plane mode: the map moved by this (metres, map frame) because the planes agreed that the
+  // trajectory sat off them (Planes.trajectoryConsensus).
+  std::optional<Eigen::Vector3d> consensus_correction;
+  // Plane mode, keyframes after the map lock: the LSD check of the map's creases (crease_check.h).
+  std::optional<CreaseCheckStats> crease_check;
+  // One JSON object on one line (the --stats format).
+  std::string ToJson() const;
+};
+
+// A correction of the map frame applied during the run.
+struct LockEvent {
+  int frame = 0;
+  MapLock lock = MapLock::kSearching;
+  Rigid3d map_from_world;  // applied to the keyframes and points of the segment
+  int first_keyframe_id = 0;
+  bool recorrection = false;  // a re-registration while locked, not the lock itself
+};
+
+// What became of the local BA of every keyframe (end-of-run stats). After Tracker::Finish,
+// keyframes = applied + superseded + discarded + unusable + empty.
+struct BaCounts {
+  int keyframes = 0;   // keyframes inserted: each asks for a local BA
+  int applied = 0;     // solved and written back
+  int superseded = 0;  // not solved: a newer keyframe's BA was requested while the worker was busy
+  int discarded = 0;   // solved, then dropped: the map moved to the map frame meanwhile
+  int unusable = 0;    // the solver failed; the map kept as it was
+  int empty = 0;       // nothing to adjust (a window without observations)
+  // Of the applied results: keyframes and points left as they were because they had been moved
+  // since the window was built (a late result never undoes a newer change).
+  int stale_keyframes = 0;
+  int stale_points = 0;
+  // Map maintenance (map_maintenance.h): keyframes erased as redundant, and as too old.
+  int culled_keyframes = 0;
+  int forgotten_keyframes = 0;
+  std::string ToJson() const;
+};
+
+struct TrackResult {
+  Rigid3d world_from_cam;  // in the frame of the initial pose
+  FrameStats stats;
+};
+
+class Tracker {
+ public:
+  // `world_from_cam_initial`: pose of the first frame; the trajectory is expressed in its frame.
+  // `plane_map`: LiDAR planes in that same frame (the map frame): map points on them get
+  // point-to-plane residuals in the local BA (options.ba.lambda); without it the BA is visual.
+  // `start_prior`: how well world_from_cam_initial is known in the map frame; unless exact, the
+  // run registers its structure to the plane map (map lock) before it uses the planes, and moves
+  // its map into the map frame when it locks.
+  Tracker(const StereoCamera& camera, const TrackerOptions& options,
+          const Rigid3d& world_from_cam_initial = Rigid3d::Identity(),
+          const PlaneMap* plane_map = nullptr, const StartPrior& start_prior = {});
+  ~Tracker();
+  Tracker(const Tracker&) = delete;
+  Tracker& operator=(const Tracker&) = delete;
+
+  // Extracts features from a rectified grey pair and tracks them.
+  TrackResult Track(const cv::Mat& left, const cv::Mat& right, double timestamp);
+  // The features Track extracts from a rectified grey pair. Const and thread-safe: a caller may
+  // extract the next frame while the current one is tracked (run_sequence.cc).
+  StereoFeatures ExtractFeatures(const cv::Mat& left, const cv::Mat& right) const;
+  // Tracks already extracted features (`ms_extract` is reported in the stats).
+  TrackResult TrackFeatures(StereoFeatures features, double timestamp, double ms_extract = 0);
+  // A frame without images: the motion model's pose, no map change.
+  TrackResult SkipFrame(double timestamp);
+  // Waits for a running BA and applies it (call at the end of a sequence).
+  void Finish();
+  // Threaded mode, after Finish: the crease checks no frame's stats reported.
+  std::vector<CreaseCheckStats> TakeUnreportedCreaseChecks();
+
+  const SparseMap& map() const { return map_; }
+  // Map-frame corrections applied so far (registration locks).
+  const std::vector<LockEvent>& lock_events() const { return lock_events_; }
+  // kLocked without a plane map.
+  MapLock map_lock() const { return locker_ ? locker_->state() : MapLock::kLocked; }
+  const OrbExtractor& extractor() const { return extractor_; }
+  const BaCounts& ba_counts() const { return ba_counts_; }
+  // Map moves by the planes' consensus on the trajectory's offset (Planes.trajectoryConsensus).
+  int consensus_corrections() const { return consensus_corrections_; }
+  const TrackerOptions& options() const { return options_; }
+
+ private:
+  bool TrackMotionModel(Frame& frame, const Rigid3d& predicted);
+  bool TrackReferenceKeyframe(Frame& frame, const Rigid3d& predicted);
+  bool TrackLocalMap(Frame& frame, FrameStats& stats);
+  // Pose optimization over the frame's map points; sets outlier flags, returns inliers.
+  int OptimizeFramePose(Frame& frame);
+  std::vector<int> LocalPointIds(const Frame& frame);
+  bool NeedKeyframe(const Frame& frame, int inliers) const;
+  // Local mapping idle (ORB-SLAM2's AcceptKeyFrames): no BA running, queued, waiting to be
+  // applied or deferred. Always true in deterministic mode.
+  bool MappingIdle() const;
+  // Inserts the keyframe and runs the mapping steps; fills ms_ba / reprojection stats.
+  void InsertKeyframe(Frame& frame, FrameStats& stats);
+  // Point fusion, keyframe culling and forgetting after keyframe `keyframe_id` was inserted.
+  void MaintainMap(int keyframe_id);
+  // The keyframe's BA window with its snapshot; std::nullopt (counted as empty) without
+  // observations.
+  // With Planes.trajectoryConsensus, a window whose planes agree (in this and the previous
+  // window) that the trajectory sits off the map first moves the map by that offset
+  // (ApplyCorrection; `current` moves with it) and is then built again.
+  std::optional<BaJob> MakeBaJob(int keyframe_id, FrameStats& stats, Frame* current);
+  // Builds the keyframe's BA window and hands it to the worker (threaded mode).
+  void SubmitBa(int keyframe_id, FrameStats& stats, Frame* current);
+  // Submits the deferred keyframe's BA once the worker is idle.
+  void SubmitDeferredBa(FrameStats& stats);
+  void ApplyBaResults(FrameStats& stats, bool wait);
+  // Applies a finished registration: its correction moves the segment (and `current`) into the
+  // map frame.
+  void ApplyLockResults(FrameStats& stats, Frame* current, bool wait);
+  // Threaded mode: takes the worker's finished crease checks (kept for the gate unless a map-lock
+  // correction came since), and reports the next one in this frame's stats.
+  void CollectCreaseChecks(bool wait);
+  void ReportCreaseCheck(FrameStats& stats);
+  // A lock or re-registration (`from_lock`) also restarts the planes' bias statistics and is
+  // logged as a lock event; a consensus correction keeps them (they were recorded beyond the
+  // offset the planes agreed on).
+  void ApplyCorrection(const MapCorrection& correction, Frame* current, int frame_id,
+                       bool from_lock = true);
+  // Moves the keyframes and points of the correction's segment, the last and current frame.
+  void MoveSegment(const MapCorrection& correction, Frame* current);
+  // The settling after a lock (bias statistics restarted, the lock's covariance) and its event.
+  void LockBookkeeping(const MapCorrection& correction, int frame_id);
+  Rigid3d PredictPose() const;
+  double CloseDepth() const { return options_.close_depth_baselines * camera_.baseline; }
+
+  StereoCamera camera_;
+  TrackerOptions options_;  // options_.ba.lambda is 1 (visual BA) without a plane map
+  std::unique_ptr<PlaneAssociator> planes_;
+  OrbExtractor extractor_;
+  SparseMap map_;
+  std::unique_ptr<BaWorker> ba_worker_;
+  std::unique_ptr<MapLocker> locker_;  // with a plane map
+  std::vector<LockEvent> lock_events_;
+  // Corrections applied so far; a BA result computed before the latest one is dropped.
+  int correction_epoch_ = 0;
+  // The trajectory offset the planes agreed on in the previous window (Planes.
+  // trajectoryConsensus), and the corrections it caused.
+  std::optional<Eigen::Vector3d> previous_consensus_;
+  int consensus_corrections_ = 0;
+  // Keyframe id from which plane bias statistics stop allowing for the last lock's error; -1: none.
+  int settle_until_keyframe_id_ = -1;
+  // After a full lock: the next window spans the segment with every keyframe free.
+  bool lock_window_pending_ = false;
+  // Keyframe whose BA waits for the worker (threaded mode).
+  std::optional<int> deferred_ba_keyframe_;
+  // Threaded: the frame at which the BA now on the worker was submitted (LocalBA.maxLagFrames).
+  std::optional<int> ba_submitted_frame_;
+  BaCounts ba_counts_;
+  Rigid3d cam_from_world_initial_;
+
+  int next_frame_id_ = 0;
+  std::optional<Frame> last_frame_;
+  // last frame relative to its reference keyframe: re-anchors it when BA moves the keyframe
+  Rigid3d last_from_reference_;
+  std::optional<Rigid3d> velocity_;  // current_from_last of the last tracked step
+  int reference_keyframe_id_ = -1;
+  int last_keyframe_frame_id_ = 0;
+  std::vector<int> recent_point_ids_;
+  bool lost_before_ = false;
+  int frames_skipped_ = 0;             // frames without images since last_frame_
+  std::vector<cv::Mat> left_pyramid_;  // of the frame being tracked, for the crease check
+  // Threaded mode: finished crease checks' stats not yet reported (one per frame's stats line).
+  std::deque<CreaseCheckStats> crease_stats_ready_;
+};
+
+}  // namespace planeloc

@@ -1,0 +1,556 @@
+#include "planeloc/prior/map_registration.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <tuple>
+
+#include "planeloc/prior/registration_voting.h"
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// A plane within this angle of horizontal is ground, within this angle of vertical a facade.
+const double kGroundCos = std::cos(15.0 * kDegree);
+const double kFacadeSin = std::sin(15.0 * kDegree);
+// Lever arm (metres) that puts rotations in metres for the reported eigenvalues.
+constexpr double kLeverArm = 10.0;
+
+Eigen::Vector3d AnyPerpendicular(const Eigen::Vector3d& n) {
+  const Eigen::Vector3d seed =
+      std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  return n.cross(seed).normalized();
+}
+
+// Named axes at a camera: along-track (horizontal forward), lateral (left), vertical (up).
+struct VehicleAxes {
+  Eigen::Vector3d along, lateral, up;
+};
+
+VehicleAxes AxesAt(const Eigen::Vector3d& forward, const Eigen::Vector3d& up) {
+  VehicleAxes axes;
+  axes.up = up.normalized();
+  Eigen::Vector3d along = forward - forward.dot(axes.up) * axes.up;
+  if (along.norm() < 1e-6) along = AnyPerpendicular(axes.up);
+  axes.along = along.normalized();
+  axes.lateral = axes.up.cross(axes.along);
+  return axes;
+}
+
+// Covariance from point-to-plane information, regularized by a very weak prior (100 m, 1 rad)
+// so that an unobserved direction gets a large but finite variance instead of leaking rounding
+// noise of a pseudo-inverse into the observed ones. Solved in metric units (rotation x lever).
+Matrix6d RegularizedCovariance(const Matrix6d& information) {
+  Vector6d scale;
+  scale << 1, 1, 1, 1.0 / kLeverArm, 1.0 / kLeverArm, 1.0 / kLeverArm;
+  Matrix6d metric = scale.asDiagonal() * information * scale.asDiagonal();
+  metric.diagonal().array() += 1.0 / (100.0 * 100.0);
+  const Matrix6d covariance = metric.ldlt().solve(Matrix6d::Identity());
+  return scale.asDiagonal() * covariance * scale.asDiagonal();
+}
+
+}  // namespace
+
+const char* RegistrationDofName(int dof) {
+  static const char* const kNames[kNumDofs] = {"along_track", "lateral", "vertical",
+                                               "roll",        "pitch",   "yaw"};
+  return dof >= 0 && dof < kNumDofs ? kNames[dof] : "unknown";
+}
+
+const char* MapLockName(MapLock lock) {
+  switch (lock) {
+    case MapLock::kSearching:
+      return "searching";
+    case MapLock::kPartial:
+      return "partial";
+    case MapLock::kLocked:
+      return "locked";
+  }
+  return "unknown";
+}
+
+void MapRegistrationOptions::Check() const {
+  auto positive = [](double value, const char* name) {
+    if (!(value > 0.0))
+      throw OptionsError(std::string("MapRegistrationOptions.") + name + " must be > 0");
+  };
+  positive(search_sigmas, "search_sigmas");
+  positive(heading_step_deg, "heading_step_deg");
+  positive(shift_cell, "shift_cell");
+  positive(outline_margin, "outline_margin");
+  positive(inlier_sigmas, "inlier_sigmas");
+  positive(min_point_sigma, "min_point_sigma");
+  positive(max_whitened_rms, "max_whitened_rms");
+  positive(min_margin, "min_margin");
+  positive(distinct_shift, "distinct_shift");
+  positive(distinct_angle_deg, "distinct_angle_deg");
+  positive(max_dof_sigma, "max_dof_sigma");
+  positive(max_dof_sigma_deg, "max_dof_sigma_deg");
+  positive(max_tilt_sigma_deg, "max_tilt_sigma_deg");
+  positive(noise_inflation, "noise_inflation");
+  positive(sigma_tilt_deg, "sigma_tilt_deg");
+  if (max_headings < 1) throw OptionsError("MapRegistrationOptions.max_headings must be >= 1");
+  if (max_cells < 3) throw OptionsError("MapRegistrationOptions.max_cells must be >= 3");
+  if (max_points < 10) throw OptionsError("MapRegistrationOptions.max_points must be >= 10");
+  if (min_points < 10) throw OptionsError("MapRegistrationOptions.min_points must be >= 10");
+  if (num_hypotheses < 1) throw OptionsError("MapRegistrationOptions.num_hypotheses must be >= 1");
+  if (!(min_plane_area >= 0.0)) {
+    throw OptionsError("MapRegistrationOptions.min_plane_area must be >= 0 (m^2)");
+  }
+  if (!(map_sigma >= 0.0)) throw OptionsError("MapRegistrationOptions.map_sigma must be >= 0 (m)");
+  if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0)) {
+    throw OptionsError("MapRegistrationOptions.min_inlier_ratio must be in [0, 1]");
+  }
+}
+
+RegistrationPrior RegistrationPrior::FromSigmas(const Eigen::Vector3d& pivot,
+                                                const Eigen::Vector3d& up, double sigma_horizontal,
+                                                double sigma_vertical, double sigma_yaw,
+                                                double sigma_tilt) {
+  return FromVehicleSigmas(pivot, up, AnyPerpendicular(up.normalized()), sigma_horizontal,
+                           sigma_horizontal, sigma_vertical, sigma_yaw, sigma_tilt);
+}
+
+RegistrationPrior RegistrationPrior::FromVehicleSigmas(const Eigen::Vector3d& pivot,
+                                                       const Eigen::Vector3d& up,
+                                                       const Eigen::Vector3d& forward,
+                                                       double sigma_along, double sigma_lateral,
+                                                       double sigma_vertical, double sigma_yaw,
+                                                       double sigma_tilt) {
+  const VehicleAxes axes = AxesAt(forward, up);
+  RegistrationPrior prior;
+  prior.pivot_in_world = pivot;
+  prior.up_in_world = axes.up;
+  prior.covariance.setZero();
+  prior.covariance.topLeftCorner<3, 3>() =
+      sigma_along * sigma_along * axes.along * axes.along.transpose() +
+      sigma_lateral * sigma_lateral * axes.lateral * axes.lateral.transpose() +
+      sigma_vertical * sigma_vertical * axes.up * axes.up.transpose();
+  prior.covariance.bottomRightCorner<3, 3>() =
+      sigma_yaw * sigma_yaw * axes.up * axes.up.transpose() +
+      sigma_tilt * sigma_tilt *
+          (axes.along * axes.along.transpose() + axes.lateral * axes.lateral.transpose());
+  return prior;
+}
+
+// One candidate correction: p_map = rotation (p - pivot) + pivot + shift.
+struct MapRegistration::Hypothesis {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  double votes = 0;
+  int inliers = 0;
+  // Truncated chi2 over all points: (d / sigma)^2, at most inlier_sigmas^2 (also for points on
+  // no plane). Differences between hypotheses are log-likelihood ratios.
+  double cost = 0;
+  double rms = 0, whitened_rms = 0;
+  Matrix6d information = Matrix6d::Zero();  // point-to-plane only, (shift, omega) at the pivot
+};
+
+MapRegistration::MapRegistration(const PlaneMap& planes, const MapRegistrationOptions& options)
+    : options_(options) {
+  options_.Check();
+  for (const MapPlane& plane : planes.planes) {
+    if (plane.area > 0.0 && plane.area < options_.min_plane_area) continue;
+    FlatPlane flat;
+    flat.id = plane.id;
+    flat.plane = plane.plane_in_map;
+    flat.sigma = std::hypot(plane.rms, options_.map_sigma);
+    flat.ground = plane.kind == "ground";
+    std::tie(flat.u, flat.v) = plane.plane_in_map.InPlaneBasis();
+    flat.lo = Eigen::Vector3d::Constant(-kInf);
+    flat.hi = Eigen::Vector3d::Constant(kInf);
+    if (plane.polygon.size() >= 3) {
+      flat.lo = flat.hi = plane.polygon.front();
+      flat.polygon = plane.polygon;
+      for (const Eigen::Vector3d& p : plane.polygon) {
+        flat.ring.emplace_back(p.dot(flat.u), p.dot(flat.v));
+        flat.lo = flat.lo.cwiseMin(p);
+        flat.hi = flat.hi.cwiseMax(p);
+      }
+    }
+    planes_.push_back(std::move(flat));
+  }
+}
+
+Eigen::Vector3d MapRegistration::UpDirection(const Eigen::Vector3d& hint) const {
+  const Eigen::Vector3d h = hint.normalized();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const FlatPlane& plane : planes_) {
+    if (!plane.ground) continue;
+    const Eigen::Vector3d n =
+        plane.plane.normal.dot(h) >= 0 ? plane.plane.normal : Eigen::Vector3d(-plane.plane.normal);
+    // Area weighting through the outline's box would favour long thin planes; the ground planes
+    // of a street map are all nearly parallel, so a plain mean is enough.
+    if (n.dot(h) > kGroundCos) sum += n;
+  }
+  return sum.norm() > 0.5 ? sum.normalized() : h;
+}
+
+bool MapRegistration::NearOutline(const FlatPlane& plane, const Eigen::Vector3d& point,
+                                  double margin) const {
+  if (plane.ring.size() < 3) return true;
+  // Quick rejection: the point's projection outside the outline's box grown by the margin.
+  const Eigen::Vector3d projected = plane.plane.Project(point);
+  if ((projected.array() < plane.lo.array() - margin).any() ||
+      (projected.array() > plane.hi.array() + margin).any()) {
+    return false;
+  }
+  const Eigen::Vector2d q(point.dot(plane.u), point.dot(plane.v));
+  return InsideOrNearPolygon2d(plane.ring, q, margin);
+}
+
+void MapRegistration::Refine(const std::vector<RegistrationPoint>& points,
+                             const RegistrationPrior& prior, const std::vector<int>& candidates,
+                             Hypothesis& hypothesis) const {
+  const Eigen::Vector3d& c = prior.pivot_in_world;
+  // Prior information; a zero sigma (exact DoF) becomes a very stiff one.
+  Matrix6d prior_covariance = prior.covariance;
+  prior_covariance.diagonal().array() += 1e-10;
+  const Matrix6d prior_information = prior_covariance.inverse();
+
+  struct Match {
+    int plane = -1;  // index into planes_
+    double sigma = 0;
+  };
+  std::vector<Match> matches(points.size());
+  const double floor2 = options_.min_point_sigma * options_.min_point_sigma;
+  auto associate = [&](double gate) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector3d p =
+          hypothesis.rotation * (points[i].point_in_world - c) + c + hypothesis.shift;
+      matches[i] = Match{};
+      double best = kInf;
+      for (const int index : candidates) {
+        const FlatPlane& plane = planes_[index];
+        const double sigma = std::sqrt(std::max(floor2, points[i].sigma * points[i].sigma) +
+                                       plane.sigma * plane.sigma);
+        const double distance = std::abs(plane.plane.SignedDistance(p));
+        if (distance > gate + options_.inlier_sigmas * sigma || distance >= best) continue;
+        if (!NearOutline(plane, p, options_.outline_margin)) continue;
+        best = distance;
+        matches[i] = Match{index, sigma};
+      }
+    }
+  };
+
+  const double gates[] = {1.0, 1.0, 1.0, 0.5, 0.5, 0.5, 0.25, 0.25, 0.25, 0.0, 0.0, 0.0};
+  for (const double gate : gates) {
+    associate(gate);
+    Matrix6d h = Matrix6d::Zero();
+    Vector6d b = Vector6d::Zero();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (matches[i].plane < 0) continue;
+      const Plane& plane = planes_[matches[i].plane].plane;
+      const Eigen::Vector3d q = hypothesis.rotation * (points[i].point_in_world - c);
+      const double r = plane.SignedDistance(q + c + hypothesis.shift) / matches[i].sigma;
+      Eigen::Matrix<double, 1, 6> j;
+      j.head<3>() = plane.normal.transpose();
+      j.tail<3>() = -plane.normal.transpose() * Hat(q);
+      j /= matches[i].sigma;
+      constexpr double kHuber = 2.0;
+      const double w = std::abs(r) <= kHuber ? 1.0 : kHuber / std::abs(r);
+      h += w * j.transpose() * j;
+      b += w * j.transpose() * r;
+    }
+    Vector6d xi;
+    xi.head<3>() = hypothesis.shift;
+    xi.tail<3>() = LogSO3(hypothesis.rotation);
+    const Vector6d step = -(h + prior_information).ldlt().solve(b + prior_information * xi);
+    if (!step.allFinite()) break;
+    hypothesis.shift += step.head<3>();
+    hypothesis.rotation = ExpSO3(step.tail<3>()) * hypothesis.rotation;
+  }
+
+  // Score with the final association.
+  associate(0.0);
+  hypothesis.inliers = 0;
+  hypothesis.information.setZero();
+  double sum2 = 0, whitened2 = 0;
+  const double truncation2 = options_.inlier_sigmas * options_.inlier_sigmas;
+  hypothesis.cost = truncation2 * static_cast<double>(points.size());
+  const double inflation2 = options_.noise_inflation * options_.noise_inflation;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (matches[i].plane < 0) continue;
+    const Plane& plane = planes_[matches[i].plane].plane;
+    const Eigen::Vector3d q = hypothesis.rotation * (points[i].point_in_world - c);
+    const double distance = plane.SignedDistance(q + c + hypothesis.shift);
+    ++hypothesis.inliers;
+    sum2 += distance * distance;
+    whitened2 += distance * distance / (matches[i].sigma * matches[i].sigma);
+    hypothesis.cost += distance * distance / (matches[i].sigma * matches[i].sigma) - truncation2;
+    Eigen::Matrix<double, 1, 6> j;
+    j.head<3>() = plane.normal.transpose();
+    j.tail<3>() = -plane.normal.transpose() * Hat(q);
+    hypothesis.information +=
+        j.transpose() * j / (matches[i].sigma * matches[i].sigma * inflation2);
+  }
+  hypothesis.rms = hypothesis.inliers > 0 ? std::sqrt(sum2 / hypothesis.inliers) : kInf;
+  hypothesis.whitened_rms =
+      hypothesis.inliers > 0 ? std::sqrt(whitened2 / hypothesis.inliers) : kInf;
+}
+
+RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint>& all_points,
+                                             const RegistrationPrior& prior,
+                                             const Rigid3d& world_from_camera) const {
+  RegistrationResult result;
+  for (double& sigma : result.dof_sigma) sigma = kInf;
+  // A deterministic subsample: every k-th point.
+  std::vector<RegistrationPoint> points;
+  const std::size_t stride =
+      std::max<std::size_t>(1, (all_points.size() + options_.max_points - 1) / options_.max_points);
+  for (std::size_t i = 0; i < all_points.size(); i += stride) {
+    if (all_points[i].point_in_world.allFinite()) points.push_back(all_points[i]);
+  }
+  result.points = static_cast<int>(points.size());
+  if (result.points < options_.min_points) {
+    result.reason = "too little structure (" + std::to_string(result.points) + " points, need " +
+                    std::to_string(options_.min_points) + ")";
+    return result;
+  }
+  if (planes_.empty()) {
+    result.reason = "the plane map has no usable plane";
+    return result;
+  }
+
+  const Eigen::Vector3d up = UpDirection(prior.up_in_world);
+  const Eigen::Vector3d& c = prior.pivot_in_world;
+  const Eigen::Matrix3d shift_cov = prior.covariance.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d angle_cov = prior.covariance.bottomRightCorner<3, 3>();
+  const double sigma_vertical = std::sqrt(std::max(0.0, up.dot(shift_cov * up)));
+  const double sigma_heading = std::sqrt(std::max(0.0, up.dot(angle_cov * up)));
+  // Horizontal search axes: principal axes of the prior's horizontal shift covariance.
+  const Eigen::Vector3d e1 = AnyPerpendicular(up);
+  const Eigen::Vector3d e2 = up.cross(e1);
+  Eigen::Matrix<double, 3, 2> basis;
+  basis << e1, e2;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> horizontal(basis.transpose() * shift_cov *
+                                                                  basis);
+  const Eigen::Vector3d axis[2] = {basis * horizontal.eigenvectors().col(0),
+                                   basis * horizontal.eigenvectors().col(1)};
+  const double half_range[2] = {
+      options_.search_sigmas * std::sqrt(std::max(0.0, horizontal.eigenvalues()(0))) + 1.0,
+      options_.search_sigmas * std::sqrt(std::max(0.0, horizontal.eigenvalues()(1))) + 1.0};
+  const double cell = std::max({options_.shift_cell, 2.0 * half_range[0] / (options_.max_cells - 1),
+                                2.0 * half_range[1] / (options_.max_cells - 1)});
+  const int cells[2] = {static_cast<int>(std::ceil(2.0 * half_range[0] / cell)) + 1,
+                        static_cast<int>(std::ceil(2.0 * half_range[1] / cell)) + 1};
+
+  // Planes the structure can reach under the prior.
+  Eigen::Vector3d lo = points.front().point_in_world, hi = lo;
+  double lever = 0;
+  for (const RegistrationPoint& p : points) {
+    lo = lo.cwiseMin(p.point_in_world);
+    hi = hi.cwiseMax(p.point_in_world);
+    lever = std::max(lever, (p.point_in_world - c).norm());
+  }
+  const double reach = std::max(half_range[0], half_range[1]) +
+                       options_.search_sigmas * (sigma_vertical + sigma_heading * lever) + 2.0;
+  std::vector<int> candidates, grounds, facades;
+  for (int i = 0; i < static_cast<int>(planes_.size()); ++i) {
+    const FlatPlane& plane = planes_[i];
+    if ((plane.hi.array() < lo.array() - reach).any() ||
+        (plane.lo.array() > hi.array() + reach).any()) {
+      continue;
+    }
+    candidates.push_back(i);
+    const double vertical = std::abs(plane.plane.normal.dot(up));
+    if (vertical > kGroundCos) grounds.push_back(i);
+    if (vertical < kFacadeSin) facades.push_back(i);
+  }
+  if (candidates.empty()) {
+    result.reason = "no plane of the map within reach of the structure";
+    return result;
+  }
+
+  // 1. Vertical shift: points over a ground plane vote (5 cm bins).
+  const double vertical_range = options_.search_sigmas * sigma_vertical + 0.3;
+  constexpr double kBin = 0.05;
+  const double horizontal_reach = std::max(half_range[0], half_range[1]);
+  std::vector<double> ground_votes;
+  std::vector<bool> near_ground(points.size(), false);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (const int g : grounds) {
+      const FlatPlane& plane = planes_[g];
+      const Eigen::Vector3d& p = points[i].point_in_world;
+      if (!NearOutline(plane, p, horizontal_reach)) continue;
+      const double shift = -plane.plane.SignedDistance(p) / plane.plane.normal.dot(up);
+      if (std::abs(shift) > vertical_range + 0.5 * kBin) continue;
+      ground_votes.push_back(shift);
+      near_ground[i] = true;
+    }
+  }
+  const double vertical_shift = VoteVerticalShift(ground_votes, vertical_range, kBin);
+  // Points within 0.3 m of the ground (after the vertical shift) vote for no facade.
+  std::vector<Eigen::Vector3d> facade_voters;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d p = points[i].point_in_world + vertical_shift * up;
+    bool on_ground = false;
+    for (const int g : grounds) {
+      if (near_ground[i] && std::abs(planes_[g].plane.SignedDistance(p)) < 0.3) on_ground = true;
+    }
+    if (!on_ground) facade_voters.push_back(p);
+  }
+
+  // 2. Heading x horizontal shift: Hough voting over facades.
+  const int num_headings =
+      sigma_heading > 0 ? std::max(1, std::min(options_.max_headings,
+                                               static_cast<int>(std::ceil(
+                                                   2.0 * options_.search_sigmas * sigma_heading /
+                                                   (options_.heading_step_deg * kDegree))) +
+                                                   1))
+                        : 1;
+  std::vector<double> headings;
+  for (int k = 0; k < num_headings; ++k) {
+    headings.push_back(num_headings == 1 ? 0.0
+                                         : -options_.search_sigmas * sigma_heading +
+                                               2.0 * options_.search_sigmas * sigma_heading * k /
+                                                   (num_headings - 1));
+  }
+  std::vector<HoughFacade> hough_facades;
+  for (const int f : facades) {
+    hough_facades.push_back(MakeHoughFacade(planes_[f].plane, planes_[f].polygon, up));
+  }
+  ShiftGrid grid;
+  grid.axis[0] = axis[0];
+  grid.axis[1] = axis[1];
+  grid.half_range[0] = half_range[0];
+  grid.half_range[1] = half_range[1];
+  grid.cell = cell;
+  grid.cells[0] = cells[0];
+  grid.cells[1] = cells[1];
+  HoughOptions hough_options;
+  hough_options.outline_margin = options_.outline_margin;
+  const std::vector<HeadingShiftPeak> peaks =
+      VoteHeadingAndShift(facade_voters, c, up, hough_facades, headings, grid, hough_options);
+
+  // Distinct peaks, plus the prior's mean (the answer when no facade votes).
+  std::vector<Hypothesis> hypotheses;
+  auto add_hypothesis = [&](double heading, const Eigen::Vector3d& shift, double votes) {
+    for (const Hypothesis& h : hypotheses) {
+      const double angle = std::abs(Eigen::AngleAxisd(h.rotation).angle() - std::abs(heading));
+      if ((h.shift - shift).norm() < 1.0 && angle < 2.0 * kDegree) return;
+    }
+    Hypothesis h;
+    h.rotation = Eigen::AngleAxisd(heading, up).toRotationMatrix();
+    h.shift = shift;
+    h.votes = votes;
+    hypotheses.push_back(h);
+  };
+  for (const HeadingShiftPeak& peak : peaks) {
+    if (static_cast<int>(hypotheses.size()) >= options_.num_hypotheses) break;
+    add_hypothesis(peak.heading, peak.shift_xy + vertical_shift * up, peak.votes);
+  }
+  add_hypothesis(0.0, vertical_shift * up, 0.0);
+
+  // 3. Refine and score.
+  for (Hypothesis& h : hypotheses) Refine(points, prior, candidates, h);
+  result.hypotheses = static_cast<int>(hypotheses.size());
+  std::stable_sort(hypotheses.begin(), hypotheses.end(),
+                   [](const Hypothesis& a, const Hypothesis& b) { return a.cost < b.cost; });
+  const Hypothesis& best = hypotheses.front();
+  result.candidate_map_from_world = Rigid3d(best.rotation, c + best.shift - best.rotation * c);
+  result.inliers = best.inliers;
+  result.inlier_ratio = static_cast<double>(best.inliers) / result.points;
+  result.rms = best.rms;
+  result.whitened_rms = best.whitened_rms;
+
+  // Conditioning at the current camera.
+  // Conditioning at the current camera, in the map frame of the best hypothesis: a change
+  // (d_shift, d_omega) moves the camera by d_shift - [R (camera - c)]x d_omega.
+  const Eigen::Vector3d camera = world_from_camera.translation;
+  const VehicleAxes axes = AxesAt(
+      best.rotation * (world_from_camera.rotation * Eigen::Vector3d::UnitZ()), best.rotation * up);
+  Matrix6d to_camera = Matrix6d::Identity();
+  to_camera.topRightCorner<3, 3>() = -Hat(best.rotation * (camera - c));
+  const Matrix6d covariance =
+      to_camera * RegularizedCovariance(best.information) * to_camera.transpose();
+  // The same change of pivot for the information (x_camera = to_camera x_pivot), then the
+  // vehicle axes; and the best hypothesis as a camera shift and a rotation in those axes.
+  Matrix6d from_camera = Matrix6d::Identity();
+  from_camera.topRightCorner<3, 3>() = Hat(best.rotation * (camera - c));
+  result.vehicle_axes.row(0) = axes.along.transpose();
+  result.vehicle_axes.row(1) = axes.lateral.transpose();
+  result.vehicle_axes.row(2) = axes.up.transpose();
+  Matrix6d to_vehicle = Matrix6d::Zero();
+  to_vehicle.topLeftCorner<3, 3>() = result.vehicle_axes;
+  to_vehicle.bottomRightCorner<3, 3>() = result.vehicle_axes;
+  result.information_at_camera = to_vehicle * from_camera.transpose() * best.information *
+                                 from_camera * to_vehicle.transpose();
+  result.camera_in_world = camera;
+  result.correction_at_camera.head<3>() =
+      result.vehicle_axes * (best.rotation * (camera - c) + c + best.shift - camera);
+  result.correction_at_camera.tail<3>() = result.vehicle_axes * LogSO3(best.rotation);
+  result.camera_position_covariance = covariance.topLeftCorner<3, 3>();
+  const Eigen::Vector3d named[kNumDofs] = {axes.along, axes.lateral, axes.up,
+                                           axes.along, axes.lateral, axes.up};
+  for (int dof = 0; dof < kNumDofs; ++dof) {
+    const Eigen::Matrix3d block =
+        dof < 3 ? covariance.topLeftCorner<3, 3>() : covariance.bottomRightCorner<3, 3>();
+    const double sigma = std::sqrt(std::max(0.0, named[dof].dot(block * named[dof])));
+    // Above 10 m (or 1 rad) the regularization, not the data, sets the value: unobserved.
+    result.dof_sigma[dof] = sigma > (dof < 3 ? 10.0 : 0.5) ? kInf : sigma;
+    const double limit = dof < 3       ? options_.max_dof_sigma
+                         : dof == kYaw ? options_.max_dof_sigma_deg * kDegree
+                                       : options_.max_tilt_sigma_deg * kDegree;
+    result.constrained[dof] = sigma <= limit;
+  }
+  Matrix6d metric = best.information;
+  metric.bottomRightCorner<3, 3>() /= kLeverArm * kLeverArm;
+  metric.topRightCorner<3, 3>() /= kLeverArm;
+  metric.bottomLeftCorner<3, 3>() /= kLeverArm;
+  result.information_eigenvalues = Eigen::SelfAdjointEigenSolver<Matrix6d>(metric).eigenvalues();
+
+  // Margin over the best hypothesis that differs in a constrained DoF.
+  const auto apply = [&](const Hypothesis& h, const Eigen::Vector3d& x) {
+    return Eigen::Vector3d(h.rotation * (x - c) + c + h.shift);
+  };
+  double second = kInf;
+  for (std::size_t k = 1; k < hypotheses.size(); ++k) {
+    const Hypothesis& other = hypotheses[k];
+    const Eigen::Vector3d dt = apply(other, camera) - apply(best, camera);
+    const Eigen::Vector3d dr = LogSO3(other.rotation * best.rotation.transpose());
+    bool distinct = false;
+    for (int dof = 0; dof < kNumDofs; ++dof) {
+      if (!result.constrained[dof]) continue;
+      const double difference = std::abs((dof < 3 ? dt : dr).dot(named[dof]));
+      distinct |= dof < 3 ? difference > options_.distinct_shift
+                          : difference > options_.distinct_angle_deg * kDegree;
+    }
+    if (distinct) second = std::min(second, other.cost);
+  }
+  // The cost difference to the best distinct hypothesis, deflated like the information: a
+  // chi2-like log-likelihood ratio that ground points (which fit every hypothesis of the right
+  // height) do not dilute.
+  result.margin = (second - best.cost) / (options_.noise_inflation * options_.noise_inflation);
+
+  const bool all_but_along = result.constrained[kLateral] && result.constrained[kVertical] &&
+                             result.constrained[kRoll] && result.constrained[kPitch] &&
+                             result.constrained[kYaw];
+  if (result.inlier_ratio < options_.min_inlier_ratio || best.inliers < options_.min_points / 2) {
+    result.reason = "few points on planes (" + std::to_string(best.inliers) + " of " +
+                    std::to_string(result.points) + ")";
+  } else if (result.whitened_rms > options_.max_whitened_rms) {
+    result.reason = "point-to-plane residuals too large for the points' sigmas";
+  } else if (result.margin < options_.min_margin) {
+    result.reason = "ambiguous: a distinct hypothesis fits almost as well";
+  } else if (!all_but_along) {
+    result.reason = "the planes in view do not constrain";
+    for (int dof = kLateral; dof < kNumDofs; ++dof) {
+      if (!result.constrained[dof]) result.reason += std::string(" ") + RegistrationDofName(dof);
+    }
+  } else {
+    result.lock = result.constrained[kAlongTrack] ? MapLock::kLocked : MapLock::kPartial;
+    if (result.lock == MapLock::kPartial) result.reason = "along-track not observed";
+    result.map_from_world = Rigid3d(best.rotation, c + best.shift - best.rotation * c);
+  }
+  return result;
+}
+
+}  // namespace planeloc

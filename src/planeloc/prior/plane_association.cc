@@ -1,0 +1,582 @@
+#include "planeloc/prior/plane_association.h"
+
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "planeloc/prior/trajectory_consensus.h"
+#include "planeloc/util/error.h"
+
+namespace planeloc {
+namespace {
+
+constexpr std::int64_t kAxisCells = 1 << 20;  // per axis, centred on 0: +-5 000 km at 5 m
+
+}  // namespace
+
+void PlaneAssociationOptions::Check() const {
+  if (!(max_distance > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.max_distance must be > 0 (m)");
+  }
+  if (!(polygon_margin >= 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.polygon_margin must be >= 0 (m)");
+  }
+  if (!(min_plane_area >= 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.min_plane_area must be >= 0 (m^2)");
+  }
+  if (!(cell_size > 0.0)) throw OptionsError("PlaneAssociationOptions.cell_size must be > 0 (m)");
+  if (!(gate_chi2 > 0.0)) throw OptionsError("PlaneAssociationOptions.gate_chi2 must be > 0");
+  if (common_mode_points < 0) {
+    throw OptionsError("PlaneAssociationOptions.common_mode_points must be >= 0 (0: off)");
+  }
+  if (!(map_sigma >= 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.map_sigma must be >= 0 (m)");
+  }
+  if (!(std::isfinite(correction_tilt_sigma_deg) && correction_tilt_sigma_deg >= 0 &&
+        correction_tilt_sigma_deg <= 10)) {
+    throw OptionsError(
+        "PlaneAssociationOptions.correction_tilt_sigma_deg must be in [0, 10] degrees (0: the "
+        "correction holds the tilt)");
+  }
+  if (!(std::isfinite(bias_peer_angle_deg) && bias_peer_angle_deg >= 0 &&
+        bias_peer_angle_deg < 90)) {
+    throw OptionsError("PlaneAssociationOptions.bias_peer_angle_deg must be in [0, 90) degrees");
+  }
+  if (!(std::isfinite(bias_common_allowance) && bias_common_allowance >= 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.bias_common_allowance must be >= 0 (m)");
+  }
+  if (!(pixel_sigma > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.pixel_sigma must be > 0 (px)");
+  }
+  if (min_associations < 0) {
+    throw OptionsError("PlaneAssociationOptions.min_associations must be >= 0");
+  }
+  if (!(stats_band > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.stats_band must be > 0 (m)");
+  }
+  if (!(stats_max_point_sigma > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.stats_max_point_sigma must be > 0 (m)");
+  }
+  if (!(bias_min >= 0.0)) throw OptionsError("PlaneAssociationOptions.bias_min must be >= 0 (m)");
+  if (!(bias_significance > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.bias_significance must be > 0");
+  }
+  if (bias_min_points < 1) {
+    throw OptionsError("PlaneAssociationOptions.bias_min_points must be >= 1");
+  }
+  if (warn_after_windows < 1) {
+    throw OptionsError("PlaneAssociationOptions.warn_after_windows must be >= 1");
+  }
+  if (consensus_min_planes < 2) {
+    throw OptionsError(
+        "PlaneAssociationOptions.consensus_min_planes must be >= 2 (one plane could be the wrong "
+        "one)");
+  }
+  if (consensus_min_points < 1) {
+    throw OptionsError("PlaneAssociationOptions.consensus_min_points must be >= 1");
+  }
+  if (!(std::isfinite(consensus_min_offset) && consensus_min_offset >= 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.consensus_min_offset must be >= 0 (m)");
+  }
+  if (!(std::isfinite(consensus_tolerance) && consensus_tolerance > 0.0)) {
+    throw OptionsError("PlaneAssociationOptions.consensus_tolerance must be > 0 (m)");
+  }
+  crease.Check();
+}
+
+std::optional<PointEstimate> StereoPointEstimate(const StereoCamera& camera,
+                                                 const Rigid3d& cam_from_world, double u_left,
+                                                 double v, double u_right, double pixel_sigma) {
+  const double disparity = u_left - u_right;
+  if (!(disparity > 0.0) || u_right < 0.0) return std::nullopt;
+  const double b = camera.baseline, fx = camera.fx, fy = camera.fy;
+  const double du = u_left - camera.cx, dv = v - camera.cy;
+  const Eigen::Vector3d in_cam(du * b / disparity, dv * fx * b / (fy * disparity),
+                               fx * b / disparity);
+  Eigen::Matrix3d jacobian;  // d(x, y, z) / d(u, v, disparity)
+  const double d2 = disparity * disparity;
+  jacobian << b / disparity, 0, -du * b / d2,                  //
+      0, fx * b / (fy * disparity), -dv * fx * b / (fy * d2),  //
+      0, 0, -fx * b / d2;
+  const double s2 = pixel_sigma * pixel_sigma;
+  const Eigen::Vector3d measurement_variance(s2, s2, 2.0 * s2);
+  const Eigen::Matrix3d in_cam_covariance =
+      jacobian * measurement_variance.asDiagonal() * jacobian.transpose();
+  const Rigid3d world_from_cam = cam_from_world.Inverse();
+  const Eigen::Matrix3d rotation = world_from_cam.rotation.toRotationMatrix();
+  PointEstimate estimate;
+  estimate.point_in_map = world_from_cam * in_cam;
+  estimate.covariance = rotation * in_cam_covariance * rotation.transpose();
+  return estimate;
+}
+
+PointEstimate FusePointEstimates(const std::vector<PointEstimate>& estimates) {
+  if (estimates.empty()) throw std::invalid_argument("FusePointEstimates: no estimate");
+  if (estimates.size() == 1) return estimates.front();
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+  for (const PointEstimate& e : estimates) {
+    const Eigen::Matrix3d inverse = e.covariance.inverse();
+    information += inverse;
+    weighted += inverse * e.point_in_map;
+  }
+  PointEstimate fused;
+  fused.covariance = information.inverse();
+  fused.point_in_map = fused.covariance * weighted;
+  return fused;
+}
+
+PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationOptions& options)
+    : options_(options),
+      map_name_(planes.source.empty() ? std::string("plane map") : planes.source.string()) {
+  options_.Check();
+  const double inflate =
+      options_.polygon_margin + std::max(options_.max_distance, options_.stats_band);
+  for (const MapPlane& plane : planes.planes) {
+    if (plane.area > 0.0 && plane.area < options_.min_plane_area) continue;
+    FlatPlane flat;
+    flat.plane = plane;
+    std::tie(flat.u, flat.v) = plane.plane_in_map.InPlaneBasis();
+    const Eigen::Vector3d& up = planes.frame.up;
+    flat.facade =
+        plane.kind == "facade" || (plane.kind.empty() && !up.isZero() &&
+                                   std::abs(plane.plane_in_map.normal.dot(up.normalized())) <
+                                       std::sin(15.0 * std::numbers::pi / 180.0));
+    const std::size_t index = planes_.size();
+    index_by_id_[plane.id] = index;
+    if (plane.polygon.size() < 3) {
+      unbounded_.push_back(index);
+      planes_.push_back(std::move(flat));
+      continue;
+    }
+    Eigen::Vector3d lo = plane.polygon.front(), hi = plane.polygon.front();
+    std::vector<Eigen::Vector2d> ring;
+    for (const auto& p : plane.polygon) {
+      ring.emplace_back(p.dot(flat.u), p.dot(flat.v));
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    flat.outline = IndexedPolygon2d(std::move(ring));
+    lo.array() -= inflate;
+    hi.array() += inflate;
+    const Eigen::Array3d first = (lo / options_.cell_size).array().floor();
+    const Eigen::Array3d last = (hi / options_.cell_size).array().floor();
+    for (double x = first.x(); x <= last.x(); ++x) {
+      for (double y = first.y(); y <= last.y(); ++y) {
+        for (double z = first.z(); z <= last.z(); ++z) {
+          cells_[CellKey(Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5) * options_.cell_size)]
+              .push_back(index);
+        }
+      }
+    }
+    planes_.push_back(std::move(flat));
+  }
+  if (options_.crease_check) {
+    CreaseCheckOptions crease = options_.crease;
+    crease.creases.min_plane_area = options_.min_plane_area;
+    crease.region_margin = options_.polygon_margin;
+    creases_ = std::make_unique<CreaseChecker>(planes, crease);
+  }
+}
+
+std::optional<CreaseCheckStats> PlaneAssociator::CheckKeyframe(
+    int keyframe_id, const Rigid3d& cam_from_world, const StereoCamera& camera,
+    const std::vector<cv::Mat>& left_pyramid) {
+  const int level = options_.crease.lsd_level;
+  if (!creases_ || level >= static_cast<int>(left_pyramid.size()) || left_pyramid[level].empty()) {
+    return std::nullopt;
+  }
+  return creases_->CheckKeyframe(keyframe_id, cam_from_world, camera, left_pyramid[level]);
+}
+
+cv::Mat PlaneAssociator::CreaseCheckImage(const std::vector<cv::Mat>& left_pyramid) const {
+  const int level = options_.crease.lsd_level;
+  if (!creases_ || level >= static_cast<int>(left_pyramid.size())) return {};
+  return left_pyramid[level];
+}
+
+void PlaneAssociator::KeepCreaseCheck(int keyframe_id, KeyframeCreaseCheck check) {
+  if (creases_) creases_->Keep(keyframe_id, std::move(check));
+}
+
+bool PlaneAssociator::GateAllows(int plane_id, const Eigen::Vector3d& point_in_map,
+                                 const std::vector<KeypointView>& views) {
+  if (!options_.crease_gate || !creases_) return true;
+  for (const KeypointView& view : views) {
+    const CreaseChecker::Verdict verdict =
+        creases_->Judge(view.keyframe_id, view.keypoint, point_in_map, plane_id);
+    if (verdict != CreaseChecker::Verdict::kAllowed) {
+      ++gate_rejections_[verdict == CreaseChecker::Verdict::kOutsideRegion ? 0 : 1];
+      return false;
+    }
+  }
+  return true;
+}
+
+std::int64_t PlaneAssociator::CellKey(const Eigen::Vector3d& point) const {
+  const Eigen::Array3d c = (point / options_.cell_size).array().floor();
+  auto axis = [](double value) {
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>(value) + kAxisCells / 2, 0,
+                                    kAxisCells - 1);
+  };
+  return (axis(c.x()) * kAxisCells + axis(c.y())) * kAxisCells + axis(c.z());
+}
+
+bool PlaneAssociator::InsideOutline(const FlatPlane& flat, const Eigen::Vector3d& point) const {
+  if (flat.outline.ring().size() < 3) return true;
+  const Eigen::Vector2d q(point.dot(flat.u), point.dot(flat.v));
+  return flat.outline.InsideOrNear(q, options_.polygon_margin);
+}
+
+template <typename F>
+void PlaneAssociator::ForCandidates(const Eigen::Vector3d& point_in_map, F f) const {
+  for (const std::size_t index : unbounded_) {
+    if (!f(index)) return;
+  }
+  const auto cell = cells_.find(CellKey(point_in_map));
+  if (cell == cells_.end()) return;
+  for (const std::size_t index : cell->second) {
+    if (!f(index)) return;
+  }
+}
+
+std::optional<int> PlaneAssociator::Associate(const Eigen::Vector3d& point_in_map) const {
+  if (!point_in_map.allFinite()) return std::nullopt;
+  std::optional<int> found;
+  bool ambiguous = false;
+  ForCandidates(point_in_map, [&](std::size_t index) {
+    const FlatPlane& flat = planes_[index];
+    if (std::abs(flat.plane.plane_in_map.SignedDistance(point_in_map)) > options_.max_distance) {
+      return true;
+    }
+    if (!InsideOutline(flat, point_in_map)) return true;
+    if (found && *found != flat.plane.id) {
+      ambiguous = true;  // two planes claim the point
+      return false;
+    }
+    found = flat.plane.id;
+    return true;
+  });
+  if (ambiguous) return std::nullopt;
+  return found;
+}
+
+double PlaneAssociator::SurfaceDistance(const FlatPlane& flat, const Eigen::Vector3d& x) const {
+  const double s = flat.plane.plane_in_map.SignedDistance(x);
+  return flat.health.disabled ? s - flat.health.median : s;
+}
+
+double PlaneAssociator::Variance(const FlatPlane& flat) const {
+  return flat.plane.rms * flat.plane.rms + options_.map_sigma * options_.map_sigma + flat.bias2;
+}
+
+std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& estimate) const {
+  const Eigen::Vector3d& x = estimate.point_in_map;
+  if (!x.allFinite() || !estimate.covariance.allFinite()) return std::nullopt;
+  std::optional<PlaneAssociation> found;
+  bool ambiguous = false;
+  ForCandidates(x, [&](std::size_t index) {
+    const FlatPlane& flat = planes_[index];
+    const Plane& plane = flat.plane.plane_in_map;
+    // A disabled plane still stands for a surface where its points were seen (its plane moved
+    // by their median): a point on that surface is not given to a neighbouring plane whose gate
+    // it also passes (a sidewalk 8 cm above a disabled road would otherwise take the road's
+    // points near the kerb and lift the camera).
+    if (flat.health.disabled && !options_.disabled_planes_block) return true;
+    const double s = SurfaceDistance(flat, x);
+    if (std::abs(s) > options_.max_distance) return true;
+    const double map_variance = Variance(flat);
+    const double variance = plane.normal.dot(estimate.covariance * plane.normal) + map_variance;
+    if (s * s > options_.gate_chi2 * variance) return true;
+    if (!InsideOutline(flat, x)) return true;
+    if (flat.health.disabled || (found && found->plane_id != flat.plane.id)) {
+      ambiguous = true;
+      return false;
+    }
+    found = PlaneAssociation{flat.plane.id, s, std::sqrt(variance), map_variance,
+                             flat.health.common_bias * flat.health.common_bias};
+    return true;
+  });
+  if (ambiguous) return std::nullopt;
+  return found;
+}
+
+void PlaneAssociator::ForgetPoint(int point_id) {
+  for (FlatPlane& flat : planes_) {
+    if (flat.distance_by_point.erase(point_id) > 0) flat.touched = true;
+  }
+}
+
+void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
+  const Eigen::Vector3d& x = estimate.point_in_map;
+  if (!x.allFinite() || !estimate.covariance.allFinite()) return;
+  std::optional<std::size_t> found;
+  double found_distance = 0;
+  bool ambiguous = false;
+  ForCandidates(x, [&](std::size_t index) {
+    const FlatPlane& flat = planes_[index];
+    const Plane& plane = flat.plane.plane_in_map;
+    // A disabled plane, moved by its median, blocks as in Associate (no statistics of its own).
+    if (flat.health.disabled && !options_.disabled_planes_block) return true;
+    const double s = SurfaceDistance(flat, x);
+    if (flat.health.disabled) {
+      const double variance = plane.normal.dot(estimate.covariance * plane.normal) + Variance(flat);
+      if (std::abs(s) > options_.max_distance || s * s > options_.gate_chi2 * variance ||
+          !InsideOutline(flat, x)) {
+        return true;
+      }
+      ambiguous = true;
+      return false;
+    }
+    if (std::abs(s) > options_.stats_band) return true;
+    const double point_variance = plane.normal.dot(estimate.covariance * plane.normal);
+    if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) {
+      return true;
+    }
+    if (!InsideOutline(flat, x)) return true;
+    if (found && *found != index) {
+      ambiguous = true;
+      return false;
+    }
+    found = index;
+    found_distance = s;
+    return true;
+  });
+  if (ambiguous || !found) return;
+  pending_.push_back({*found, point_id, found_distance});
+}
+
+TrajectoryConsensus PlaneAssociator::ConsensusOffset() const {
+  if (!options_.trajectory_consensus) return {};
+  // The window's facades with their points' distances (horizontal planes are no witnesses).
+  std::map<std::size_t, ConsensusWitness> by_plane;
+  for (const PendingRecord& record : pending_) {
+    if (!planes_[record.index].facade) continue;
+    ConsensusWitness& witness = by_plane[record.index];
+    witness.plane_index = record.index;
+    witness.normal = planes_[record.index].plane.plane_in_map.normal;
+    witness.distances.push_back(record.distance);
+  }
+  std::vector<ConsensusWitness> witnesses;
+  for (auto& [index, witness] : by_plane) witnesses.push_back(std::move(witness));
+  ConsensusRule rule;
+  rule.min_planes = options_.consensus_min_planes;
+  rule.min_points = options_.consensus_min_points;
+  rule.min_offset = options_.consensus_min_offset;
+  rule.tolerance = options_.consensus_tolerance;
+  rule.peer_angle_deg = options_.bias_peer_angle_deg;
+  return FindTrajectoryConsensus(std::move(witnesses), rule);
+}
+
+void PlaneAssociator::FinishRecords() {
+  consensus_ = ConsensusOffset();
+  if (!consensus_.offset.isZero()) {
+    std::string ids;
+    for (const std::size_t index : consensus_.supporters) {
+      ids += (ids.empty() ? "" : ", ") + std::to_string(planes_[index].plane.id);
+    }
+    spdlog::debug(
+        "plane consensus: window {} trajectory offset [{:+.3f}, {:+.3f}, {:+.3f}] m from planes "
+        "{}",
+        windows_ + 1, consensus_.offset.x(), consensus_.offset.y(), consensus_.offset.z(), ids);
+  }
+  for (const PendingRecord& record : pending_) {
+    FlatPlane& flat = planes_[record.index];
+    flat.distance_by_point[record.point_id] = record.distance;
+    flat.touched = true;
+  }
+  pending_.clear();
+}
+
+int PlaneAssociator::UpdateHealth(int associations) {
+  if (!pending_.empty()) FinishRecords();
+  ++windows_;
+  total_associations_ += associations;
+  for (int k = 0; k < 2; ++k) {
+    window_gate_rejections_[k] = gate_rejections_[k];
+    gate_rejections_[k] = 0;
+  }
+  int disabled_now = 0, judged = 0;
+  std::vector<double> values;
+  std::vector<std::size_t> touched;  // planes with points in this window, statistics updated
+  for (std::size_t index = 0; index < planes_.size(); ++index) {
+    FlatPlane& flat = planes_[index];
+    if (flat.health.points >= options_.bias_min_points) ++judged;
+    if (!flat.touched || flat.health.disabled) continue;
+    flat.touched = false;
+    touched.push_back(index);
+    values.clear();
+    for (const auto& [id, s] : flat.distance_by_point) values.push_back(s);
+    const std::size_t n = values.size();
+    const RobustLocation location = RobustMedian(values);
+    PlaneHealth& health = flat.health;
+    const bool was_judged = health.points >= options_.bias_min_points;
+    health.points = static_cast<int>(n);
+    health.median = location.median;
+    health.standard_error = location.standard_error;
+    if (!was_judged && health.points >= options_.bias_min_points) ++judged;
+  }
+  const double cos_peer = std::cos(options_.bias_peer_angle_deg * std::numbers::pi / 180.0);
+  std::vector<std::pair<double, double>> witnesses;  // (offset along the normal, sigma)
+  for (const std::size_t index : touched) {
+    FlatPlane& flat = planes_[index];
+    PlaneHealth& health = flat.health;
+    const Eigen::Vector3d& normal = flat.plane.plane_in_map.normal;
+    // The trajectory's own error e in the map frame moves every plane's points by n.e. A plane
+    // is judged by witnesses: the trajectory as it is (offset 0; the only one before) and its
+    // peers in this window (planes of about the same normal with enough points, offset n_k.n_j
+    // times their median). Its bias is its offset from their median: one wrong peer cannot make
+    // a right plane look wrong, and a trajectory that drifted along the normal is seen by all. A
+    // plane without peers is judged by the trajectory alone, which can be the one that is off: with
+    // bias_peers it is only down-weighted, never moved or disabled (an end wall across a
+    // straight street, the only along-track hold, would otherwise be given up exactly when
+    // along-track drift needs it).
+    witnesses.assign(1,
+                     {0.0, std::sqrt(std::max(0.0, normal.dot(trajectory_covariance_ * normal)))});
+    for (const std::size_t other : touched) {
+      if (!options_.bias_peers) break;
+      const FlatPlane& peer = planes_[other];
+      if (other == index || 2 * peer.health.points < options_.bias_min_points) continue;
+      const double alignment = peer.plane.plane_in_map.normal.dot(normal);
+      if (std::abs(alignment) < cos_peer) continue;
+      witnesses.emplace_back(alignment * peer.health.median, peer.health.standard_error);
+    }
+    const int peers = static_cast<int>(witnesses.size()) - 1;
+    // The witnesses' median; of the two middle ones, the nearer to this plane's median.
+    std::sort(witnesses.begin(), witnesses.end());
+    const std::size_t upper = witnesses.size() / 2;
+    std::size_t middle = upper;
+    if (witnesses.size() % 2 == 0 && std::abs(witnesses[upper - 1].first - health.median) <
+                                         std::abs(witnesses[upper].first - health.median)) {
+      middle = upper - 1;
+    }
+    const double bias = health.median - witnesses[middle].first;
+    const double bias_sigma = std::hypot(health.standard_error, witnesses[middle].second);
+    // Down-weighting: from half the points needed to judge, the part of the bias its witnesses'
+    // uncertainty does not explain joins the plane sigma.
+    const double unexplained = std::max(0.0, std::abs(bias) - witnesses[middle].second);
+    flat.bias2 = 2 * health.points >= options_.bias_min_points ? unexplained * unexplained : 0.0;
+    if (options_.bias_common_mode && 2 * health.points >= options_.bias_min_points) {
+      const double excess = std::max(0.0, unexplained - options_.bias_common_allowance);
+      health.common_bias =
+          options_.bias_common_hold ? std::max(health.common_bias, excess) : excess;
+    }
+    spdlog::debug(
+        "plane health: window {} plane {} points {} median {:+.3f} m (se {:.3f}) peers {} "
+        "bias {:+.3f} common {:.3f}",
+        windows_, flat.plane.id, health.points, health.median, health.standard_error, peers, bias,
+        health.common_bias);
+    // The window's planes agree that the trajectory is off by this plane's offset: the
+    // trajectory's error, not the plane's, until the tracker has corrected it or not.
+    const bool explained = std::find(consensus_.supporters.begin(), consensus_.supporters.end(),
+                                     index) != consensus_.supporters.end();
+    const bool judgeable = (!options_.bias_peers || peers > 0) && !explained;
+    if (judgeable && health.points >= options_.bias_min_points &&
+        std::abs(bias) > options_.bias_min &&
+        std::abs(bias) > options_.bias_significance * bias_sigma) {
+      flat.bias2 = 0;
+      flat.distance_by_point.clear();
+      if (options_.reanchor_biased && !health.reanchored) {
+        // s = n.x + d: the points sit at s = bias off the peers' reference, so d - bias puts
+        // the plane where its peers say its points are.
+        flat.plane.plane_in_map.d -= bias;
+        health.reanchored = true;
+        health.shift = -bias;
+        health.median -= bias;  // its points' offset from the moved plane, for its peers
+        ++num_reanchored_;
+        spdlog::warn(
+            "{}: plane {} moved by {:+.3f} m along its normal for this run: its {} points sat "
+            "{:+.3f} m off it, {:+.3f} m off the trajectory and its {} peers (median signed "
+            "distances of their stereo estimates, standard error {:.3f} m); the map is wrong there",
+            map_name_, flat.plane.id, -bias, health.points, health.median, bias, peers, bias_sigma);
+        continue;
+      }
+      health.disabled = true;  // moved by its median, it still blocks (Associate, Record)
+      ++num_disabled_;
+      ++disabled_now;
+      spdlog::warn(
+          "{}: plane {} disabled for this run: its {} points sit {:+.3f} m off it, {:+.3f} m off "
+          "the trajectory and its {} peers (median signed distances of their stereo estimates, "
+          "standard error {:.3f} m); the map is wrong there",
+          map_name_, flat.plane.id, health.points, health.median, bias, peers, bias_sigma);
+    }
+  }
+  if (!warned_no_association_ && windows_ >= options_.warn_after_windows &&
+      total_associations_ == 0 && !planes_.empty()) {
+    warned_no_association_ = true;
+    spdlog::warn(
+        "{}: no map point passed the association gate of any plane in the first {} keyframes; "
+        "the plane map is probably in another frame than the trajectory (check the initial pose "
+        "and the map's frame) or of another place",
+        map_name_, windows_);
+  }
+  if (!warned_most_disabled_ && judged >= 3 && 2 * num_disabled_ > judged) {
+    warned_most_disabled_ = true;
+    spdlog::warn(
+        "{}: {} of the {} planes with enough points are disabled (their points sit off them): "
+        "the plane map is probably wrong (another frame, a bad registration, an outdated map)",
+        map_name_, num_disabled_, judged);
+  }
+  return disabled_now;
+}
+
+void PlaneAssociator::SetTrajectoryCovariance(const Eigen::Matrix3d& position_covariance_in_map) {
+  if (!position_covariance_in_map.allFinite()) {
+    throw std::invalid_argument("PlaneAssociator::SetTrajectoryCovariance: not finite");
+  }
+  trajectory_covariance_ = position_covariance_in_map;
+}
+
+void PlaneAssociator::ResetHealth() {
+  for (FlatPlane& flat : planes_) {
+    flat.plane.plane_in_map.d -= flat.health.shift;  // back where the map has it
+    flat.health = PlaneHealth{};
+    flat.bias2 = 0;
+    flat.distance_by_point.clear();
+    flat.touched = false;
+  }
+  num_disabled_ = 0;
+  num_reanchored_ = 0;
+  pending_.clear();
+  consensus_ = TrajectoryConsensus{};
+}
+
+void PlaneAssociator::FillGateStats(CreaseCheckStats& stats) const {
+  stats.gate_rejected_region = window_gate_rejections_[0];
+  stats.gate_rejected_side = window_gate_rejections_[1];
+}
+
+const MapPlane& PlaneAssociator::plane(int id) const {
+  const auto it = index_by_id_.find(id);
+  if (it == index_by_id_.end()) {
+    throw std::out_of_range("PlaneAssociator: no plane with id " + std::to_string(id));
+  }
+  return planes_[it->second].plane;
+}
+
+const PlaneHealth& PlaneAssociator::health(int id) const {
+  const auto it = index_by_id_.find(id);
+  if (it == index_by_id_.end()) {
+    throw std::out_of_range("PlaneAssociator: no plane with id " + std::to_string(id));
+  }
+  return planes_[it->second].health;
+}
+
+double PlaneAssociator::PlaneSigma(int id) const {
+  const auto it = index_by_id_.find(id);
+  if (it == index_by_id_.end()) {
+    throw std::out_of_range("PlaneAssociator: no plane with id " + std::to_string(id));
+  }
+  return std::sqrt(Variance(planes_[it->second]));
+}
+
+}  // namespace planeloc

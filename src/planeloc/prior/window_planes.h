@@ -1,0 +1,33 @@
+// The prior map's half of the local BA window: which of the window's points lie on a LiDAR plane,
+// with what sigma, and the planes they use. The visual half is BuildLocalWindow
+// (tracking/local_mapping.h).
+#pragma once
+
+#include <optional>
+
+#include "planeloc/geometry/camera.h"
+#include "planeloc/optim/window_ba.h"
+#include "planeloc/prior/plane_association.h"
+#include "planeloc/tracking/map.h"
+
+namespace planeloc {
+
+// The point's position from its stereo observations only (each back-projected from its
+// keyframe's current pose, fused by information; keypoint noise options.pixel_sigma times
+// scale_factor^octave). std::nullopt when no observation has a stereo match.
+std::optional<PointEstimate> VisualPointEstimate(const SparseMap& map, const MapPoint& point,
+                                                 const StereoCamera& camera,
+                                                 const PlaneAssociationOptions& options);
+
+// Associates the points of a window built by BuildLocalWindow with the plane map: every window
+// point whose visual estimate (VisualPointEstimate) passes the plane gate (and
+// PlaneAssociator::GateAllows, the crease gate, for its keypoints) gets its plane id and the
+// gate's sigma, and the planes used are added to the problem. A window with fewer than
+// options.min_associations associated points gets none (staged activation: plain visual BA).
+// The decision uses the points' stereo measurements, not their BA positions (hysteresis).
+// Also records the window in the planes' bias statistics (PlaneAssociator::Record,
+// FinishRecords, UpdateHealth) before and after associating.
+void AssociateWindowPlanes(WindowProblem& problem, const SparseMap& map, const StereoCamera& camera,
+                           const PlaneAssociationOptions& options, PlaneAssociator& planes);
+
+}  // namespace planeloc

@@ -1,0 +1,225 @@
+// The prior map's half of the local window on hand-made features: which points are tagged with
+// a plane, staged activation, hysteresis, and the weights of a plane's points.
+#include "planeloc/prior/window_planes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "planeloc/tracking/frame.h"
+#include "planeloc/tracking/local_mapping.h"
+#include "planeloc/tracking/test_camera.h"
+
+namespace planeloc {
+namespace {
+
+using testing::FeaturesOf;
+using testing::RandomDescriptors;
+using testing::RandomPoints;
+
+StereoCamera TestCamera() { return testing::RoundStereoCamera(); }
+
+// The window around `keyframe_id` with its points associated with `planes`.
+WindowProblem Window(const SparseMap& map, int keyframe_id, const StereoCamera& camera,
+                     const PlaneAssociationOptions& options, PlaneAssociator& planes) {
+  WindowProblem problem = BuildLocalWindow(map, keyframe_id, OdometryOptions{});
+  AssociateWindowPlanes(problem, map, camera, options, planes);
+  return problem;
+}
+
+TEST(WindowPlanesTest, TagsPlanePointsFromTheirStereo) {
+  // Four keyframes at the origin sharing 60 random points, each later one seeing fewer of them.
+  std::mt19937 rng(12);
+  const StereoCamera camera = TestCamera();
+  const std::vector<Eigen::Vector3d> points = RandomPoints(60, rng);
+  const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
+  SparseMap map;
+  std::vector<int> kfs;
+  for (int k = 0; k < 4; ++k) kfs.push_back(map.AddKeyframe(frame));
+  const std::vector<int> created = CreateStereoPoints(map, kfs[0], camera, OdometryOptions{});
+  for (int k = 1; k < 4; ++k) {
+    for (int id : created) {
+      const int keypoint = map.point(id).observations.at(kfs[0]);
+      if (keypoint < 60 - 15 * k) map.AddObservation(id, kfs[k], keypoint);
+    }
+  }
+  for (int k : kfs) map.UpdateConnections(k);
+  PlaneAssociationOptions options;
+  // A plane z = z0 through point 5 (the world is keyframe 0's camera frame). The expectation is
+  // independent of the gate's formula: a point within 2 cm of the plane passes every gate (the
+  // gate's sigma is at least Planes.mapSigma, 5 cm, so its band is at least
+  // sqrt(6.635) * 5 cm = 12.9 cm), and a point beyond the 15 cm cap passes none. In between it
+  // depends on the depth; no assertion there.
+  const double z0 = points[5].z();
+  PlaneMap plane_map;
+  MapPlane wall;
+  wall.id = 42;
+  wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -z0);
+  wall.area = 400;
+  wall.polygon = {{-20, -20, z0}, {20, -20, z0}, {20, 20, z0}, {-20, 20, z0}};
+  plane_map.planes.push_back(wall);
+  options.min_associations = 1;
+  ASSERT_GE(options.map_sigma, 0.05);
+  ASSERT_LE(options.max_distance, 0.15);
+  PlaneAssociator planes(plane_map, options);
+  const WindowProblem problem = Window(map, kfs[3], camera, options, planes);
+  int on_plane = 0, surely_in = 0, surely_out = 0;
+  for (const WindowPoint& p : problem.points) {
+    const double s = std::abs(p.point_in_world.z() - z0);
+    if (s < 0.02) {
+      EXPECT_TRUE(p.plane_id.has_value()) << p.point_in_world.transpose();
+      ++surely_in;
+    } else if (s > 0.15) {
+      EXPECT_FALSE(p.plane_id.has_value()) << p.point_in_world.transpose();
+      ++surely_out;
+    }
+    on_plane += p.plane_id.has_value();
+  }
+  ASSERT_GT(surely_in, 0);
+  ASSERT_GT(surely_out, 0);
+  ASSERT_GT(on_plane, 0);
+  ASSERT_EQ(problem.planes.size(), 1u);
+  EXPECT_EQ(problem.planes[0].id, 42);
+  EXPECT_EQ(BuildLocalWindow(map, kfs[3], OdometryOptions{}).planes.size(), 0u);
+
+  // Staged activation: fewer associations than min_associations, plain visual BA.
+  options.min_associations = on_plane + 1;
+  const WindowProblem staged = Window(map, kfs[3], camera, options, planes);
+  EXPECT_TRUE(staged.planes.empty());
+  for (const WindowPoint& p : staged.points) EXPECT_FALSE(p.plane_id.has_value());
+
+  // Hysteresis: a point that a BA pulled onto the plane, while its stereo says it is 30 cm off
+  // (and the gate is tighter there), stays off it: the decision uses the stereo estimate.
+  options.min_associations = 1;
+  int moved = -1;
+  for (int id : created) {
+    const Eigen::Vector3d p = map.point(id).point_in_world;
+    if (std::abs(p.z() - z0) > 0.3) {  // beyond the 15 cm cap: never associated by its stereo
+      moved = id;
+      break;
+    }
+  }
+  ASSERT_GE(moved, 0);
+  Eigen::Vector3d pulled = map.point(moved).point_in_world;
+  pulled.z() = z0;
+  map.SetPointPosition(moved, pulled);
+  ASSERT_EQ(planes.Associate(pulled), 42);  // by its BA position it would be on the plane
+  bool seen = false;
+  for (const WindowPoint& p : Window(map, kfs[3], camera, options, planes).points) {
+    if (p.id != moved) continue;
+    seen = true;
+    EXPECT_FALSE(p.plane_id.has_value());
+  }
+  EXPECT_TRUE(seen);
+}
+
+// One keyframe whose 60 stereo points lie on z = 4 in front of the camera, and a plane map of
+// one large wall (id 7) at z = wall_z with fitted rms `rms`.
+struct WallWindow {
+  WallWindow(double wall_z, double rms) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> x(-3, 3), y(-0.9, 0.9);
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < 60; ++i) points.emplace_back(x(rng), y(rng), 4.0);
+    const Frame frame(0, 0.0, FeaturesOf(points, RandomDescriptors(60, rng), camera), camera);
+    keyframe_id = map.AddKeyframe(frame);
+    CreateStereoPoints(map, keyframe_id, camera, OdometryOptions());
+    map.UpdateConnections(keyframe_id);
+    MapPlane wall;
+    wall.id = 7;
+    wall.plane_in_map = Plane(Eigen::Vector3d::UnitZ(), -wall_z);
+    wall.area = 400;
+    wall.rms = rms;
+    wall.polygon = {{-20, -20, wall_z}, {20, -20, wall_z}, {20, 20, wall_z}, {-20, 20, wall_z}};
+    plane_map.planes.push_back(wall);
+  }
+  StereoCamera camera = TestCamera();
+  SparseMap map;
+  int keyframe_id = 0;
+  PlaneMap plane_map;
+};
+
+// The window's information along the planes' normals: the sum of 1 / sigma^2 of its points'
+// point-to-plane residuals; `associated` counts them.
+double PlaneInformation(const WindowProblem& problem, int* associated) {
+  double sum = 0;
+  *associated = 0;
+  for (const WindowPoint& p : problem.points) {
+    if (!p.plane_id) continue;
+    ++*associated;
+    sum += 1.0 / (p.plane_sigma * p.plane_sigma);
+  }
+  return sum;
+}
+
+// A wall that 60 window points lie on: each point counts as independent of the others unless
+// Planes.commonModePoints says the map's error is shared. Then the window's total information
+// from the plane's map error is at most that many points' worth, however many points it holds.
+TEST(WindowPlanesTest, CommonModePointsCapAPlanesInformation) {
+  // At 4 m the points' own sigma along the normal (2.6 cm) is small next to the map's (5.8 cm).
+  const WallWindow w(4.0, 0.03);
+  const StereoCamera& camera = w.camera;
+  const SparseMap& map = w.map;
+  const int kf = w.keyframe_id;
+  const MapPlane& wall = w.plane_map.planes.front();
+  const PlaneMap& plane_map = w.plane_map;
+  PlaneAssociationOptions options;
+  options.min_associations = 1;
+  // The plane's map variance: its rms and the map sigma (no bias recorded yet).
+  const double map_variance = wall.rms * wall.rms + options.map_sigma * options.map_sigma;
+  auto information = [&](int common_mode_points, int* associated) {
+    options.common_mode_points = common_mode_points;
+    PlaneAssociator planes(plane_map, options);
+    return PlaneInformation(Window(map, kf, camera, options, planes), associated);
+  };
+  int independent_points = 0, capped_points = 0;
+  const double independent = information(0, &independent_points);
+  const double capped = information(10, &capped_points);
+  ASSERT_GE(independent_points, 50);
+  EXPECT_EQ(capped_points, independent_points);  // the gate is unchanged: same associations
+  EXPECT_LE(capped, 10.0 / map_variance * (1 + 1e-9));
+  EXPECT_GT(capped, 0.9 * 10.0 / map_variance);
+  EXPECT_GT(independent, 4.0 * capped);
+  // A plane with fewer points than the cap keeps every point's weight.
+  int few_points = 0;
+  EXPECT_DOUBLE_EQ(information(100, &few_points), independent);
+}
+
+// Planes.biasCommonMode: a wall 8 cm off its 60 points. After the first window has measured
+// the bias, each point carries N b^2 more variance, so the second window draws at most 1 / b^2
+// from the plane in all (b = bias - allowance), where without the option it draws far more.
+TEST(WindowPlanesTest, ABiasedPlaneTiesTheWindowOnceNotOncePerPoint) {
+  const WallWindow w(4.08, 0.01);  // the points are at z = 4
+  const StereoCamera& camera = w.camera;
+  const SparseMap& map = w.map;
+  const int kf = w.keyframe_id;
+  const PlaneMap& plane_map = w.plane_map;
+  PlaneAssociationOptions options;
+  options.min_associations = 1;
+  options.bias_min = 0.5;  // not disabled: the weighting is tested
+  options.bias_common_allowance = 0.03;
+  auto information = [&](bool common_mode, int* associated, double* bias) {
+    options.bias_common_mode = common_mode;
+    PlaneAssociator planes(plane_map, options);
+    Window(map, kf, camera, options, planes);  // measures the bias
+    const double sum = PlaneInformation(Window(map, kf, camera, options, planes), associated);
+    *bias = planes.health(7).common_bias;
+    return sum;
+  };
+  int independent_points = 0, common_points = 0;
+  double no_bias = 0, bias = 0;
+  const double independent = information(false, &independent_points, &no_bias);
+  const double common = information(true, &common_points, &bias);
+  ASSERT_GE(independent_points, 50);
+  EXPECT_EQ(common_points, independent_points);  // the gate is unchanged: same associations
+  EXPECT_EQ(no_bias, 0.0);
+  // The points' median sits 8 cm below the wall: b = 0.08 - 0.03, within their noise.
+  EXPECT_NEAR(bias, 0.05, 0.015);
+  EXPECT_LE(common, 1.0 / (bias * bias));
+  EXPECT_GT(common, 0.5 / (bias * bias));
+  EXPECT_GT(independent, 4.0 * common);
+}
+
+}  // namespace
+}  // namespace planeloc
