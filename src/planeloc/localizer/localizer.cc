@@ -1,5 +1,7 @@
 #include "planeloc/localizer/localizer.h"
 
+#include "planeloc/pipeline/tracker.h"
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -78,6 +80,8 @@ LocalizedFrame Localizer::Skip(double timestamp) {
 }
 
 void Localizer::Finish() { tracker_->Finish(); }
+
+const TrackerOptions& Localizer::options() const { return tracker_->options(); }
 
 LocalizedFrame Localizer::Result(const TrackResult& result, double timestamp) {
   LocalizedFrame frame;

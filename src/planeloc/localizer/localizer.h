@@ -28,11 +28,16 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
+#include "planeloc/pipeline/frame_stats.h"
 #include "planeloc/pipeline/settings.h"
-#include "planeloc/pipeline/tracker.h"
-#include "planeloc/prior/map_lock.h"
+#include "planeloc/prior/map_lock_options.h"
 
 namespace planeloc {
+
+// The pipeline behind the localizer (pipeline/tracker.h, for its sparse map, BA counts and lock
+// events); not needed to localize.
+class Tracker;
+struct TrackResult;
 
 struct LocalizerOptions {
   // ORB, stereo, BA, plane association and map-lock tunables (defaults: `planeloc run`'s).
@@ -93,7 +98,7 @@ class Localizer {
 
   int frames() const { return frames_; }
   const StereoCamera& camera() const { return camera_; }
-  const TrackerOptions& options() const { return tracker_->options(); }
+  const TrackerOptions& options() const;
   // The plane map (nullptr without one).
   const PlaneMap* plane_map() const { return plane_map_ ? plane_map_.get() : nullptr; }
   // The tracker behind it, for everything else (sparse map, BA counts, map-lock events).

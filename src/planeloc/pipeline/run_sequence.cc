@@ -385,8 +385,6 @@ RunSummary RunSequence(const RunOptions& run) {
     if (progress) progress->Update(i + 1);
   }
   tracker.Finish();
-  // Threaded runs: checks of the last keyframes finished after the last frame's stats line.
-  const std::vector<CreaseCheckStats> late_crease_checks = tracker.TakeUnreportedCreaseChecks();
   writer.Close();
   if (stats_out) stats_out->Commit();
   if (progress) progress->Finish();
@@ -405,7 +403,6 @@ RunSummary RunSequence(const RunOptions& run) {
     summary.gate_rejected += check.gate_rejected_region + check.gate_rejected_side;
     if (check.median_edge_px) edge_medians.push_back(*check.median_edge_px);
   };
-  for (const CreaseCheckStats& check : late_crease_checks) add_crease_check(check);
   for (const FrameStats& s : summary.stats) {
     ++summary.frames;
     summary.skipped += s.skipped ? 1 : 0;

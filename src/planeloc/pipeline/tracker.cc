@@ -7,10 +7,10 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <utility>
 
 #include "planeloc/geometry/lie.h"
 #include "planeloc/optim/pose_optimizer.h"
-#include "planeloc/pipeline/ba_worker.h"
 #include "planeloc/prior/window_planes.h"
 #include "planeloc/tracking/keyframe_rule.h"
 #include "planeloc/tracking/local_mapping.h"
@@ -37,57 +37,6 @@ void RecordBaStats(const BaJob& job, const BaApplyStats& applied, FrameStats& st
 
 }  // namespace
 
-const char* TrackingStateName(TrackingState state) {
-  switch (state) {
-    case TrackingState::kTracking:
-      return "tracking";
-    case TrackingState::kLost:
-      return "lost";
-    case TrackingState::kRelocalized:
-      return "relocalized";
-  }
-  return "unknown";
-}
-
-std::string FrameStats::ToJson() const {
-  std::string json = fmt::format(
-      "{{\"frame\":{},\"state\":\"{}\",\"skipped\":{},\"features\":{},\"stereo_matches\":{},"
-      "\"tracked_points\":{},\"inliers\":{},\"keyframe\":{},\"ms\":{{\"extract\":{:.3f},"
-      "\"track\":{:.3f},\"local_map\":{:.3f},\"ba\":{:.3f}}}",
-      frame, TrackingStateName(state), skipped ? "true" : "false", features, stereo_matches,
-      tracked_points, inliers, keyframe ? "true" : "false", ms_extract, ms_track, ms_local_map,
-      ms_ba);
-  if (keyframe_id) json += fmt::format(",\"keyframe_id\":{}", *keyframe_id);
-  if (ba_median_reprojection_px) {
-    json += fmt::format(",\"ba_median_reprojection_px\":{:.4f}", *ba_median_reprojection_px);
-  }
-  if (ba_plane_residuals) json += fmt::format(",\"ba_plane_residuals\":{}", *ba_plane_residuals);
-  if (ba_window_keyframes) {
-    json += fmt::format(",\"ba_window_keyframes\":{}", *ba_window_keyframes);
-  }
-  if (ba_discarded) json += ",\"ba_discarded\":true";
-  if (ba_keyframe) json += fmt::format(",\"ba_keyframe\":{}", *ba_keyframe);
-  if (!map_lock.empty()) json += fmt::format(",\"map_lock\":\"{}\"", map_lock);
-  if (registration) json += ",\"registration\":" + *registration;
-  if (planes_disabled) json += fmt::format(",\"planes_disabled\":{}", *planes_disabled);
-  if (consensus_correction) {
-    json +=
-        fmt::format(",\"consensus_correction\":[{:.4f},{:.4f},{:.4f}]", consensus_correction->x(),
-                    consensus_correction->y(), consensus_correction->z());
-  }
-  if (crease_check) json += ",\"crease_check\":" + crease_check->ToJson();
-  return json + "}";
-}
-
-std::string BaCounts::ToJson() const {
-  return fmt::format(
-      "{{\"keyframes\":{},\"applied\":{},\"superseded\":{},\"discarded\":{},\"unusable\":{},"
-      "\"empty\":{},\"stale_keyframes\":{},\"stale_points\":{},\"culled_keyframes\":{},"
-      "\"forgotten_keyframes\":{}}}",
-      keyframes, applied, superseded, discarded, unusable, empty, stale_keyframes, stale_points,
-      culled_keyframes, forgotten_keyframes);
-}
-
 Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
                  const Rigid3d& world_from_cam_initial, const PlaneMap* plane_map,
                  const StartPrior& start_prior)
@@ -106,13 +55,18 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
     planes_ = std::make_unique<PlaneAssociator>(*plane_map, options_.planes);
     // An exact start is locked from frame 0; the locker still re-registers after a loss.
     locker_ = std::make_unique<MapLocker>(*plane_map, options_.map_lock, start_prior,
-                                          world_from_cam_initial, !options_.deterministic);
+                                          world_from_cam_initial);
+    if (!options_.deterministic) {
+      // Run reads only the locker's plane map, never the state the frame thread changes.
+      registration_worker_ = std::make_unique<JobWorker<RegistrationJob>>(
+          [locker = locker_.get()](RegistrationJob& job) { locker->Run(job); });
+    }
   } else {
     options_.ba.lambda = 1.0;  // nothing to weigh the reprojection against
   }
   if (!options_.deterministic) {
-    ba_worker_ = std::make_unique<BaWorker>(camera_, options_.ba,
-                                            planes_ ? planes_->crease_checker() : nullptr);
+    ba_worker_ = std::make_unique<JobWorker<BaJob>>(
+        [camera = camera_, options = options_.ba](BaJob& job) { SolveBaJob(camera, options, job); });
   }
 }
 
@@ -176,7 +130,6 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
     ba_submitted_frame_.reset();  // also when the worker had no result to give
     stats.ms_ba += MillisecondsSince(track_start);
   }
-  ReportCreaseCheck(stats);
   ApplyLockResults(stats, nullptr, /*wait=*/false);
   SubmitDeferredBa(stats);
   if (planes_) stats.map_lock = MapLockName(map_lock());
@@ -470,19 +423,10 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
     planes_->SetTrajectoryCovariance(Eigen::Matrix3d::Zero());
     settle_until_keyframe_id_ = -1;
   }
-  // The crease check needs this keyframe's image: taken now, even if its BA waits for the worker,
-  // and checked here or (Planes.creaseCheckOnWorker, threaded) queued on the worker.
+  // The crease check needs this keyframe's image: checked now, even if its BA waits for the
+  // worker.
   if (planes_ && (!locker_ || locker_->PlanesActive())) {
-    if (ba_worker_ && options_.planes.crease_check_on_worker) {
-      const cv::Mat image = planes_->CreaseCheckImage(left_pyramid_);
-      if (!image.empty()) {
-        ba_worker_->SubmitCreaseCheck(
-            {kf_id, frame.cam_from_world, correction_epoch_, image.clone(), std::nullopt});
-      }
-    } else {
-      stats.crease_check =
-          planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
-    }
+    stats.crease_check = planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
   }
   ++ba_counts_.keyframes;
   if (ba_worker_) {
@@ -509,7 +453,7 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   }
   stats.ms_ba += MillisecondsSince(ba_start);
   if (locker_) {
-    locker_->OnKeyframe(map_, kf_id, camera_);
+    StartRegistration(kf_id);
     ApplyLockResults(stats, &frame, /*wait=*/false);
   }
 }
@@ -563,7 +507,7 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
     if (offset.isZero()) {
       previous_consensus_.reset();
     } else if (previous_consensus_ && (offset - *previous_consensus_).norm() <= tolerance &&
-               (!locker_ || locker_->Idle())) {
+               RegistrationIdle()) {
       MapCorrection correction;
       correction.map_from_world = Rigid3d(Eigen::Quaterniond::Identity(), -offset);
       correction.first_keyframe_id = 0;
@@ -640,37 +584,30 @@ void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
   }
 }
 
-std::vector<CreaseCheckStats> Tracker::TakeUnreportedCreaseChecks() {
-  std::vector<CreaseCheckStats> checks(crease_stats_ready_.begin(), crease_stats_ready_.end());
-  crease_stats_ready_.clear();
-  return checks;
-}
-
-void Tracker::CollectCreaseChecks(bool wait) {
-  if (!ba_worker_) return;
-  for (CreaseCheckJob& check :
-       wait ? ba_worker_->WaitCreaseChecks() : ba_worker_->TakeCreaseChecks()) {
-    if (!check.result) continue;
-    check.result->stats.keyframe_id = check.keyframe_id;
-    crease_stats_ready_.push_back(check.result->stats);
-    // The gate's label image is in the map frame of its time: useless after a correction.
-    if (check.correction_epoch == correction_epoch_) {
-      planes_->KeepCreaseCheck(check.keyframe_id, std::move(*check.result));
-    }
+void Tracker::StartRegistration(int keyframe_id) {
+  if (!locker_->AttemptDue(keyframe_id)) return;
+  if (registration_worker_ && !registration_worker_->Idle()) return;  // the next keyframe asks
+  RegistrationJob job = locker_->MakeJob(map_, keyframe_id, camera_);
+  if (registration_worker_) {
+    registration_worker_->Submit(std::move(job));
+    return;
   }
+  locker_->Run(job);
+  inline_registration_ = std::move(job);
 }
 
-void Tracker::ReportCreaseCheck(FrameStats& stats) {
-  CollectCreaseChecks(/*wait=*/false);
-  if (crease_stats_ready_.empty()) return;
-  stats.crease_check = crease_stats_ready_.front();
-  crease_stats_ready_.pop_front();
-  planes_->FillGateStats(*stats.crease_check);
+bool Tracker::RegistrationIdle() {
+  return !inline_registration_ && (!registration_worker_ || registration_worker_->Idle());
 }
 
 void Tracker::ApplyLockResults(FrameStats& stats, Frame* current, bool wait) {
   if (!locker_) return;
-  auto finished = locker_->TakeResult(wait);
+  std::optional<RegistrationJob> job = std::exchange(inline_registration_, std::nullopt);
+  if (!job && registration_worker_) {
+    job = wait ? registration_worker_->WaitResult() : registration_worker_->TakeResult();
+  }
+  if (!job) return;
+  auto finished = locker_->Finish(std::move(*job));
   if (!finished) return;
   const auto& [report, correction] = *finished;
   stats.registration = report.ToJson();
@@ -731,7 +668,6 @@ void Tracker::Finish() {
   // The last keyframe's deferred BA: solved and applied, so that every keyframe is accounted for.
   SubmitDeferredBa(ignored);
   ApplyBaResults(ignored, /*wait=*/true);
-  CollectCreaseChecks(/*wait=*/true);
 }
 
 }  // namespace planeloc

@@ -13,7 +13,6 @@
 // keyframes and points that were not moved since its window was built (BaCounts).
 #pragma once
 
-#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -24,7 +23,9 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
-#include "planeloc/pipeline/ba_worker.h"
+#include "planeloc/pipeline/ba_job.h"
+#include "planeloc/pipeline/frame_stats.h"
+#include "planeloc/pipeline/job_worker.h"
 #include "planeloc/pipeline/settings.h"
 #include "planeloc/prior/map_lock.h"
 #include "planeloc/prior/plane_association.h"
@@ -32,77 +33,6 @@
 #include "planeloc/tracking/map.h"
 
 namespace planeloc {
-
-enum class TrackingState {
-  kTracking,     // tracked against the map
-  kLost,         // not tracked: pose from the motion model, map re-initialized from stereo
-  kRelocalized,  // first tracked frame after a loss (against the re-initialized map)
-};
-const char* TrackingStateName(TrackingState state);
-
-struct FrameStats {
-  int frame = 0;
-  TrackingState state = TrackingState::kTracking;
-  bool skipped = false;  // images missing: motion-model pose only
-  int features = 0;
-  int stereo_matches = 0;
-  int tracked_points = 0;  // map points matched in the frame (inliers of the final optimization)
-  int inliers = 0;         // inliers of the final pose optimization
-  bool keyframe = false;
-  std::optional<int> keyframe_id;  // the keyframe this frame became (ba_keyframe refers to it)
-  double ms_extract = 0, ms_track = 0, ms_local_map = 0, ms_ba = 0;
-  // Median stereo reprojection error (pixels) after the last applied local BA, when one was
-  // applied during this frame.
-  std::optional<double> ba_median_reprojection_px;
-  // Of that BA: point-to-plane residuals (plane mode) and free keyframes of its window.
-  std::optional<int> ba_plane_residuals;
-  std::optional<int> ba_window_keyframes;
-  // A BA result dropped because the map moved to the map frame while it ran.
-  bool ba_discarded = false;
-  // Keyframe whose local BA result was applied during this frame.
-  std::optional<int> ba_keyframe;
-  // With a plane map: the map lock after this frame (searching | partial | locked), and the
-  // registration attempt that finished during this frame, as JSON.
-  std::string map_lock;
-  std::optional<std::string> registration;
-  // Plane mode, keyframes: planes of the map disabled so far (their points sit off them).
-  std::optional<int> planes_disabled;
-  // Plane mode: the map moved by this (metres, map frame) because the planes agreed that the
-  // trajectory sat off them (Planes.trajectoryConsensus).
-  std::optional<Eigen::Vector3d> consensus_correction;
-  // Plane mode, keyframes after the map lock: the LSD check of the map's creases (crease_check.h).
-  std::optional<CreaseCheckStats> crease_check;
-  // One JSON object on one line (the --stats format).
-  std::string ToJson() const;
-};
-
-// A correction of the map frame applied during the run.
-struct LockEvent {
-  int frame = 0;
-  MapLock lock = MapLock::kSearching;
-  Rigid3d map_from_world;  // applied to the keyframes and points of the segment
-  int first_keyframe_id = 0;
-  bool recorrection = false;  // a re-registration while locked, not the lock itself
-};
-
-// What became of the local BA of every keyframe (end-of-run stats). After Tracker::Finish,
-// keyframes = applied + superseded + discarded + unusable + empty.
-struct BaCounts {
-  int keyframes = 0;   // keyframes inserted: each asks for a local BA
-  int applied = 0;     // solved and written back
-  int superseded = 0;  // not solved: a newer keyframe's BA was requested while the worker was busy
-  int discarded = 0;   // solved, then dropped: the map moved to the map frame meanwhile
-  int unusable = 0;    // the solver failed; the map kept as it was
-  int empty = 0;       // nothing to adjust (a window without observations)
-  // Of the applied results: keyframes and points left as they were because they had been moved
-  // since the window was built (a late result never undoes a newer change).
-  int stale_keyframes = 0;
-  int stale_points = 0;
-  // Map maintenance (map_maintenance.h): keyframes erased as redundant, and as too old.
-  int culled_keyframes = 0;
-  int forgotten_keyframes = 0;
-  std::string ToJson() const;
-};
 
 struct TrackResult {
   Rigid3d world_from_cam;  // in the frame of the initial pose
@@ -135,8 +65,6 @@ class Tracker {
   TrackResult SkipFrame(double timestamp);
   // Waits for a running BA and applies it (call at the end of a sequence).
   void Finish();
-  // Threaded mode, after Finish: the crease checks no frame's stats reported.
-  std::vector<CreaseCheckStats> TakeUnreportedCreaseChecks();
 
   const SparseMap& map() const { return map_; }
   // Map-frame corrections applied so far (registration locks).
@@ -175,13 +103,14 @@ class Tracker {
   // Submits the deferred keyframe's BA once the worker is idle.
   void SubmitDeferredBa(FrameStats& stats);
   void ApplyBaResults(FrameStats& stats, bool wait);
+  // Starts the map lock's registration when one is due after keyframe `keyframe_id` (on the
+  // registration worker, or in line in deterministic mode).
+  void StartRegistration(int keyframe_id);
+  // No registration queued, running or finished and not yet applied.
+  bool RegistrationIdle();
   // Applies a finished registration: its correction moves the segment (and `current`) into the
   // map frame.
   void ApplyLockResults(FrameStats& stats, Frame* current, bool wait);
-  // Threaded mode: takes the worker's finished crease checks (kept for the gate unless a map-lock
-  // correction came since), and reports the next one in this frame's stats.
-  void CollectCreaseChecks(bool wait);
-  void ReportCreaseCheck(FrameStats& stats);
   // A lock or re-registration (`from_lock`) also restarts the planes' bias statistics and is
   // logged as a lock event; a consensus correction keeps them (they were recorded beyond the
   // offset the planes agreed on).
@@ -199,8 +128,12 @@ class Tracker {
   std::unique_ptr<PlaneAssociator> planes_;
   OrbExtractor extractor_;
   SparseMap map_;
-  std::unique_ptr<BaWorker> ba_worker_;
-  std::unique_ptr<MapLocker> locker_;  // with a plane map
+  std::unique_ptr<JobWorker<BaJob>> ba_worker_;  // threaded mode
+  std::unique_ptr<MapLocker> locker_;            // with a plane map
+  // Threaded mode with a plane map: runs the locker's registrations. In line (deterministic), a
+  // finished registration waits in inline_registration_ until applied.
+  std::unique_ptr<JobWorker<RegistrationJob>> registration_worker_;
+  std::optional<RegistrationJob> inline_registration_;
   std::vector<LockEvent> lock_events_;
   // Corrections applied so far; a BA result computed before the latest one is dropped.
   int correction_epoch_ = 0;
@@ -230,8 +163,6 @@ class Tracker {
   bool lost_before_ = false;
   int frames_skipped_ = 0;             // frames without images since last_frame_
   std::vector<cv::Mat> left_pyramid_;  // of the frame being tracked, for the crease check
-  // Threaded mode: finished crease checks' stats not yet reported (one per frame's stats line).
-  std::deque<CreaseCheckStats> crease_stats_ready_;
 };
 
 }  // namespace planeloc

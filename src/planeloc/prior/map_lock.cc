@@ -21,92 +21,6 @@ std::string JsonNumber(double value, int digits) {
 
 }  // namespace
 
-void StartPrior::Check() const {
-  const double values[3] = {sigma_horizontal, sigma_vertical, sigma_yaw_deg};
-  const double maxima[3] = {kMaxSigmaHorizontal, kMaxSigmaVertical, kMaxSigmaYawDeg};
-  for (int i = 0; i < 3; ++i) {
-    if (!(std::isfinite(values[i]) && values[i] >= 0.0 && values[i] <= maxima[i])) {
-      throw OptionsError(fmt::format(
-          "--init-sigma \"S_XY S_Z S_YAW_DEG\" needs 0 <= S_XY <= {} m, 0 <= S_Z <= {} m and 0 <= "
-          "S_YAW_DEG <= {} deg (the map registration's search range), got \"{} {} {}\"",
-          kMaxSigmaHorizontal, kMaxSigmaVertical, kMaxSigmaYawDeg, sigma_horizontal, sigma_vertical,
-          sigma_yaw_deg));
-    }
-  }
-}
-
-std::string StartPriorWarning(const PlaneMap& planes, const Eigen::Vector3d& start_position,
-                              const StartPrior& prior) {
-  if (prior.Exact() || planes.planes.empty()) return "";
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d hi = -lo;
-  double nearest = std::numeric_limits<double>::infinity();
-  for (const MapPlane& plane : planes.planes) {
-    if (plane.polygon.empty()) continue;
-    Eigen::Vector3d plane_lo = plane.polygon.front(), plane_hi = plane_lo;
-    for (const Eigen::Vector3d& p : plane.polygon) {
-      plane_lo = plane_lo.cwiseMin(p);
-      plane_hi = plane_hi.cwiseMax(p);
-    }
-    lo = lo.cwiseMin(plane_lo);
-    hi = hi.cwiseMax(plane_hi);
-    const Eigen::Vector3d outside =
-        (plane_lo - start_position).cwiseMax(start_position - plane_hi).cwiseMax(0.0);
-    nearest = std::min(nearest, outside.norm());
-  }
-  if (!std::isfinite(nearest)) return "";  // no outlines: nothing to compare with
-  const std::string map_name = planes.source.empty() ? "the plane map" : planes.source.string();
-  // The structure reaches 20 m from the camera (MapLockOptions::max_point_distance).
-  const double reach = 3.0 * std::hypot(prior.sigma_horizontal, prior.sigma_vertical) + 20.0;
-  if (nearest > reach) {
-    return fmt::format(
-        "{}: the initial pose is {:.0f} m from the nearest plane, beyond what --init-sigma \"{} {} "
-        "{}\" can reach ({:.0f} m); the run stays visual odometry (map lock: searching) unless it "
-        "drives into the map. Check that the initial pose is in the plane map's frame.",
-        map_name, nearest, prior.sigma_horizontal, prior.sigma_vertical, prior.sigma_yaw_deg,
-        reach);
-  }
-  const double extent = (hi - lo).maxCoeff();
-  if (3.0 * prior.sigma_horizontal > extent) {
-    return fmt::format(
-        "{}: --init-sigma \"{} {} {}\" is wider than the map ({:.0f} m across): the registration "
-        "may find several places that fit; the run stays visual odometry (map lock: searching) "
-        "until one fits clearly better. Narrow the prior if the start is known better.",
-        map_name, prior.sigma_horizontal, prior.sigma_vertical, prior.sigma_yaw_deg, extent);
-  }
-  return "";
-}
-
-void MapLockOptions::Check() const {
-  registration.Check();
-  if (attempt_every_keyframes < 1) {
-    throw OptionsError("MapLock.attemptEveryKeyframes must be >= 1");
-  }
-  if (structure_keyframes < 1) throw OptionsError("MapLock.structureKeyframes must be >= 1");
-  if (settle_keyframes < 0) throw OptionsError("MapLock.settleKeyframes must be >= 0");
-  if (maintain_every_keyframes < 0) {
-    throw OptionsError("MapLock.maintainEveryKeyframes must be >= 0 (0: never)");
-  }
-  if (!(max_correction_sigmas > 0)) {
-    throw OptionsError("MapLock.maxCorrectionSigmas must be > 0");
-  }
-  if (!(min_correction_sigmas >= 0 && min_correction_sigmas < max_correction_sigmas)) {
-    throw OptionsError("MapLock.minCorrectionSigmas must be >= 0 and < maxCorrectionSigmas");
-  }
-  for (const double value :
-       {maintain_sigma_horizontal, maintain_sigma_vertical, maintain_sigma_yaw_deg,
-        min_recorrection, recorrection_sigmas, min_recorrection_deg}) {
-    if (!(value >= 0)) throw OptionsError("MapLock maintenance sigmas and thresholds must be >= 0");
-  }
-  if (!(max_point_distance > 0)) throw OptionsError("MapLock.maxPointDistance must be > 0 (m)");
-  if (!(disparity_sigma_px > 0)) throw OptionsError("MapLock.disparitySigma must be > 0 (px)");
-  for (const double value :
-       {drift_fraction, drift_yaw_deg_per_100m, partial_sigma_lateral, partial_sigma_vertical,
-        partial_sigma_yaw_deg, lost_sigma_horizontal, lost_sigma_vertical, lost_sigma_yaw_deg}) {
-    if (!(value >= 0)) throw OptionsError("MapLock sigmas and drift rates must be >= 0");
-  }
-}
-
 std::string RegistrationReport::ToJson() const {
   std::string dofs;
   for (int dof = 0; dof < kNumDofs; ++dof) {
@@ -172,7 +86,7 @@ std::string FusedCorrection::ToJson() const {
 }
 
 MapLocker::MapLocker(const PlaneMap& planes, const MapLockOptions& options, const StartPrior& start,
-                     const Rigid3d& world_from_cam_initial, bool threaded)
+                     const Rigid3d& world_from_cam_initial)
     : options_(options), registration_(planes, options.registration) {
   options_.Check();
   start.Check();
@@ -184,14 +98,6 @@ MapLocker::MapLocker(const PlaneMap& planes, const MapLockOptions& options, cons
   sigma_vertical_ = start.sigma_vertical;
   sigma_yaw_ = start.sigma_yaw_deg * kDegree;
   if (start.Exact()) state_ = MapLock::kLocked;
-  if (threaded) thread_ = std::jthread([this](std::stop_token stop) { Run(stop); });
-}
-
-MapLocker::~MapLocker() {
-  if (thread_.joinable()) {
-    thread_.request_stop();
-    wake_.notify_all();
-  }
 }
 
 RegistrationPrior MapLocker::CurrentPrior(const Eigen::Vector3d& camera_in_world) const {
@@ -205,27 +111,21 @@ RegistrationPrior MapLocker::CurrentPrior(const Eigen::Vector3d& camera_in_world
       std::hypot(sigma_yaw_, yaw_drift), options_.registration.sigma_tilt_deg * kDegree);
 }
 
-bool MapLocker::Idle() {
-  if (inline_finished_) return false;
-  std::lock_guard lock(mutex_);
-  return !pending_ && !running_ && !finished_;
-}
-
-void MapLocker::OnKeyframe(const SparseMap& map, int keyframe_id, const StereoCamera& camera) {
-  if (keyframe_id < segment_first_keyframe_) return;
+bool MapLocker::AttemptDue(int keyframe_id) {
+  if (keyframe_id < segment_first_keyframe_) return false;
   const bool maintenance = state_ == MapLock::kLocked;
-  if (maintenance && options_.maintain_every_keyframes == 0) return;
+  if (maintenance && options_.maintain_every_keyframes == 0) return false;
   const int every =
       maintenance ? options_.maintain_every_keyframes : options_.attempt_every_keyframes;
-  if (++keyframes_since_attempt_ < every) return;
-  {
-    std::lock_guard lock(mutex_);
-    if (pending_ || running_) return;  // the next keyframe tries again
-  }
-  keyframes_since_attempt_ = 0;
+  return ++keyframes_since_attempt_ >= every;
+}
 
+RegistrationJob MapLocker::MakeJob(const SparseMap& map, int keyframe_id,
+                                   const StereoCamera& camera) {
+  keyframes_since_attempt_ = 0;
+  const bool maintenance = state_ == MapLock::kLocked;
   // Structure: the points of the segment's last keyframes, copied for the worker.
-  Job job;
+  RegistrationJob job;
   job.segment = segment_;
   job.keyframe_id = keyframe_id;
   job.first_keyframe_id = keyframe_id;
@@ -266,62 +166,22 @@ void MapLocker::OnKeyframe(const SparseMap& map, int keyframe_id, const StereoCa
     job.prior = CurrentPrior(job.world_from_camera.translation);
   }
 
-  if (!thread_.joinable()) {
+  return job;
+}
+
+void MapLocker::Run(RegistrationJob& job) const {
+  try {
     job.result = registration_.Register(job.points, job.prior, job.world_from_camera);
-    inline_finished_ = std::move(job);
-    return;
+  } catch (const std::exception& e) {
+    RegistrationResult failed;
+    failed.reason = std::string("registration failed: ") + e.what();
+    job.result = failed;
   }
-  {
-    std::lock_guard lock(mutex_);
-    pending_ = std::move(job);
-  }
-  wake_.notify_all();
-}
-
-void MapLocker::Run(std::stop_token stop) {
-  while (true) {
-    Job job;
-    {
-      std::unique_lock lock(mutex_);
-      if (!wake_.wait(lock, stop, [this] { return pending_.has_value(); })) return;
-      job = std::move(*pending_);
-      pending_.reset();
-      running_ = true;
-    }
-    try {
-      job.result = registration_.Register(job.points, job.prior, job.world_from_camera);
-    } catch (const std::exception& e) {
-      RegistrationResult failed;
-      failed.reason = std::string("registration failed: ") + e.what();
-      job.result = failed;
-    }
-    {
-      std::lock_guard lock(mutex_);
-      finished_ = std::move(job);
-      running_ = false;
-    }
-    done_.notify_all();
-  }
-}
-
-std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLocker::TakeResult(
-    bool wait) {
-  std::optional<Job> job;
-  if (inline_finished_) {
-    job = std::move(inline_finished_);
-    inline_finished_.reset();
-  } else if (thread_.joinable()) {
-    std::unique_lock lock(mutex_);
-    if (wait) done_.wait(lock, [this] { return !pending_ && !running_; });
-    job = std::move(finished_);
-    finished_.reset();
-  }
-  if (!job || !job->result) return std::nullopt;
-  return Finish(std::move(*job));
 }
 
 std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLocker::Finish(
-    Job job) {
+    RegistrationJob job) {
+  if (!job.result) return std::nullopt;
   RegistrationReport report;
   report.keyframe_id = job.keyframe_id;
   report.lock_before = state_;

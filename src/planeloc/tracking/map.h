@@ -1,7 +1,7 @@
 // The sparse map of the tracker: keyframes and map points in containers keyed by integer id,
 // observations both ways (point -> {keyframe id: keypoint index}, keyframe -> point id per
 // keypoint) and the covisibility graph (edge weight = number of shared points). Owned by the
-// tracking thread only; the BA worker gets copies of the numbers it needs (see ba_worker.h).
+// tracking thread only; the BA worker gets copies of the numbers it needs (see pipeline/ba_job.h).
 #pragma once
 
 #include <Eigen/Core>
