@@ -12,6 +12,7 @@
 #include "planeloc/geometry/lie.h"
 #include "planeloc/optim/pose_optimizer.h"
 #include "planeloc/prior/window_planes.h"
+#include "planeloc/tracking/frame_tracking.h"
 #include "planeloc/tracking/keyframe_rule.h"
 #include "planeloc/tracking/local_mapping.h"
 #include "planeloc/tracking/map_maintenance.h"
@@ -65,8 +66,10 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
     options_.ba.lambda = 1.0;  // nothing to weigh the reprojection against
   }
   if (!options_.deterministic) {
-    ba_worker_ = std::make_unique<JobWorker<BaJob>>(
-        [camera = camera_, options = options_.ba](BaJob& job) { SolveBaJob(camera, options, job); });
+    ba_worker_ =
+        std::make_unique<JobWorker<BaJob>>([camera = camera_, options = options_.ba](BaJob& job) {
+          SolveBaJob(camera, options, job);
+        });
   }
 }
 
@@ -136,13 +139,17 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   const Rigid3d predicted = PredictPose();
   bool tracked = false;
   if (last_frame_) {
-    tracked = (velocity_ && TrackMotionModel(frame, predicted)) ||
-              TrackReferenceKeyframe(frame, predicted);
+    const TrackingContext context{camera_, extractor_, options_};
+    tracked = (velocity_ && TrackWithMotionModel(context, map_, *last_frame_, predicted, frame)) ||
+              TrackWithReferenceKeyframe(context, map_, reference_keyframe_id_, *last_frame_,
+                                         velocity_.has_value(), predicted, frame);
   }
   stats.ms_track = MillisecondsSince(track_start);
   if (tracked) {
     const auto local_start = Clock::now();
-    tracked = TrackLocalMap(frame, stats);
+    stats.inliers = TrackLocalMap(TrackingContext{camera_, extractor_, options_}, map_, frame,
+                                  reference_keyframe_id_);
+    tracked = stats.inliers >= options_.min_tracked_inliers;
     stats.ms_local_map = MillisecondsSince(local_start);
   }
 
@@ -191,164 +198,6 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   last_frame_ = std::move(frame);
   frames_skipped_ = 0;
   return result;
-}
-
-bool Tracker::TrackMotionModel(Frame& frame, const Rigid3d& predicted) {
-  const Frame& last = *last_frame_;
-  MatchOptions match_options;
-  match_options.check_orientation = true;
-  std::vector<MatchSource> sources;
-  std::vector<ProjectionMatch> matches;
-  frame.cam_from_world = predicted;
-  for (double factor : {1.0, 2.0}) {
-    sources =
-        SourcesFromFrame(last, camera_, map_, predicted, factor * options_.motion_search_radius,
-                         options_.orb.scale_factor, CloseDepth());
-    matches = MatchByProjection(sources, frame, camera_, match_options);
-    if (static_cast<int>(matches.size()) >= options_.min_motion_matches) break;
-  }
-  if (static_cast<int>(matches.size()) < options_.min_motion_matches) return false;
-
-  // Pose from map points and the last frame's temporary stereo points together.
-  std::vector<PoseObservation> observations;
-  for (const ProjectionMatch& m : matches) {
-    const cv::KeyPoint& kp = frame.keypoint(m.keypoint);
-    observations.push_back({sources[m.source].point_in_world, kp.pt.x, kp.pt.y,
-                            frame.features.u_right[m.keypoint],
-                            extractor_.InverseLevelSigma2(kp.octave)});
-  }
-  const PoseOptimizerResult result = OptimizePose(camera_, predicted, observations, options_.pose);
-  if (result.num_inliers < 10) return false;
-  frame.cam_from_world = result.cam_from_world;
-  for (std::size_t k = 0; k < matches.size(); ++k) {
-    const int id = sources[matches[k].source].map_point_id;
-    if (id >= 0 && result.inlier[k]) frame.map_point_ids[matches[k].keypoint] = id;
-  }
-  return true;
-}
-
-bool Tracker::TrackReferenceKeyframe(Frame& frame, const Rigid3d& predicted) {
-  if (!map_.HasKeyframe(reference_keyframe_id_)) return false;
-  std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
-  const Keyframe& reference = map_.keyframe(reference_keyframe_id_);
-  // A wide window around the prediction, then around the last pose (the motion changed), then
-  // the whole image with a strict ratio test. Without a velocity yet (second frame) the
-  // prediction is "no motion", often metres off: only the whole-image search is reliable.
-  struct Stage {
-    double radius;
-    Rigid3d pose;
-    double ratio;
-  };
-  constexpr double kWholeImage = 4000.0;
-  std::vector<Stage> stages;
-  if (velocity_) {
-    stages.push_back({25.0, predicted, 0.9});
-    stages.push_back({60.0, last_frame_->cam_from_world, 0.9});
-  }
-  stages.push_back({kWholeImage, last_frame_->cam_from_world, 0.8});
-  for (const Stage& stage : stages) {
-    MatchOptions match_options;
-    match_options.check_orientation = true;
-    match_options.ratio = stage.ratio;
-    match_options.ratio_across_levels = stage.radius >= kWholeImage;
-    match_options.check_right = stage.radius < kWholeImage;
-    frame.cam_from_world = stage.pose;
-    const std::vector<MatchSource> sources =
-        SourcesFromKeyframe(reference, map_, stage.radius, options_.orb.scale_factor);
-    const std::vector<ProjectionMatch> matches =
-        MatchByProjection(sources, frame, camera_, match_options);
-    if (static_cast<int>(matches.size()) < 15) continue;
-    for (const ProjectionMatch& m : matches) {
-      frame.map_point_ids[m.keypoint] = sources[m.source].map_point_id;
-    }
-    std::fill(frame.outlier.begin(), frame.outlier.end(), false);
-    if (OptimizeFramePose(frame) >= 10) return true;
-    std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
-  }
-  return false;
-}
-
-int Tracker::OptimizeFramePose(Frame& frame) {
-  std::vector<PoseObservation> observations;
-  std::vector<int> keypoints;
-  for (int i = 0; i < frame.size(); ++i) {
-    const int id = frame.map_point_ids[i];
-    if (id < 0 || !map_.HasPoint(id)) {
-      frame.map_point_ids[i] = -1;
-      continue;
-    }
-    const cv::KeyPoint& kp = frame.keypoint(i);
-    observations.push_back({map_.point(id).point_in_world, kp.pt.x, kp.pt.y,
-                            frame.features.u_right[i], extractor_.InverseLevelSigma2(kp.octave)});
-    keypoints.push_back(i);
-  }
-  if (observations.size() < 3) return 0;
-  const PoseOptimizerResult result =
-      OptimizePose(camera_, frame.cam_from_world, observations, options_.pose);
-  frame.cam_from_world = result.cam_from_world;
-  for (std::size_t k = 0; k < keypoints.size(); ++k)
-    frame.outlier[keypoints[k]] = !result.inlier[k];
-  return result.num_inliers;
-}
-
-std::vector<int> Tracker::LocalPointIds(const Frame& frame) {
-  // Keyframes sharing points with the frame, by shared count, then their covisible neighbours.
-  std::map<int, int> counts;
-  for (int i = 0; i < frame.size(); ++i) {
-    const int id = frame.map_point_ids[i];
-    if (id < 0 || frame.outlier[i] || !map_.HasPoint(id)) continue;
-    for (const auto& [kf_id, keypoint] : map_.point(id).observations) ++counts[kf_id];
-  }
-  std::vector<std::pair<int, int>> ranked;  // (-count, id)
-  for (const auto& [kf_id, count] : counts) ranked.emplace_back(-count, kf_id);
-  std::sort(ranked.begin(), ranked.end());
-  if (!ranked.empty()) reference_keyframe_id_ = ranked.front().second;
-  std::set<int> local;
-  for (const auto& [neg, kf_id] : ranked) {
-    if (static_cast<int>(local.size()) >= options_.max_local_keyframes) break;
-    local.insert(kf_id);
-  }
-  for (const auto& [neg, kf_id] : ranked) {
-    if (static_cast<int>(local.size()) >= options_.max_local_keyframes) break;
-    for (int neighbour : map_.BestCovisible(kf_id, 10)) local.insert(neighbour);
-  }
-  if (map_.HasKeyframe(reference_keyframe_id_)) local.insert(reference_keyframe_id_);
-  std::set<int> point_ids;
-  for (int kf_id : local) {
-    for (int id : map_.keyframe(kf_id).map_point_ids) {
-      if (id >= 0) point_ids.insert(id);
-    }
-  }
-  for (int id : frame.map_point_ids) {
-    if (id >= 0) point_ids.erase(id);
-  }
-  return {point_ids.begin(), point_ids.end()};
-}
-
-bool Tracker::TrackLocalMap(Frame& frame, FrameStats& stats) {
-  // Points already matched count as seen in this frame.
-  for (int i = 0; i < frame.size(); ++i) {
-    const int id = frame.map_point_ids[i];
-    if (id >= 0 && map_.HasPoint(id)) ++map_.mutable_point(id).visible;
-  }
-  const std::vector<int> local_ids = LocalPointIds(frame);
-  std::vector<int> visible;
-  const std::vector<MatchSource> sources =
-      SourcesFromLocalMap(local_ids, map_, frame, camera_, options_.local_search_radius, &visible);
-  for (int id : visible) ++map_.mutable_point(id).visible;
-  MatchOptions match_options;
-  match_options.ratio = 0.8;
-  for (const ProjectionMatch& m : MatchByProjection(sources, frame, camera_, match_options)) {
-    frame.map_point_ids[m.keypoint] = sources[m.source].map_point_id;
-  }
-  std::fill(frame.outlier.begin(), frame.outlier.end(), false);
-  const int inliers = OptimizeFramePose(frame);
-  for (int i = 0; i < frame.size(); ++i) {
-    const int id = frame.map_point_ids[i];
-    if (id >= 0 && !frame.outlier[i]) ++map_.mutable_point(id).found;
-  }
-  stats.inliers = inliers;
-  return inliers >= options_.min_tracked_inliers;
 }
 
 bool Tracker::NeedKeyframe(const Frame& frame, int inliers) const {
@@ -426,7 +275,8 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   // The crease check needs this keyframe's image: checked now, even if its BA waits for the
   // worker.
   if (planes_ && (!locker_ || locker_->PlanesActive())) {
-    stats.crease_check = planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
+    stats.crease_check =
+        planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
   }
   ++ba_counts_.keyframes;
   if (ba_worker_) {

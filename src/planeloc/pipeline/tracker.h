@@ -78,12 +78,6 @@ class Tracker {
   const TrackerOptions& options() const { return options_; }
 
  private:
-  bool TrackMotionModel(Frame& frame, const Rigid3d& predicted);
-  bool TrackReferenceKeyframe(Frame& frame, const Rigid3d& predicted);
-  bool TrackLocalMap(Frame& frame, FrameStats& stats);
-  // Pose optimization over the frame's map points; sets outlier flags, returns inliers.
-  int OptimizeFramePose(Frame& frame);
-  std::vector<int> LocalPointIds(const Frame& frame);
   bool NeedKeyframe(const Frame& frame, int inliers) const;
   // Local mapping idle (ORB-SLAM2's AcceptKeyFrames): no BA running, queued, waiting to be
   // applied or deferred. Always true in deterministic mode.
