@@ -256,12 +256,57 @@ Rigid3d ReadFirstPose(const std::filesystem::path& path) {
   throw InputError(path.string(), 0, "the pose file holds no pose", "pass a non-empty file");
 }
 
-RunSummary RunSequence(const RunOptions& run) {
-  RunSummary summary;
-  std::optional<PlaneMap> plane_map;  // read first: a bad plane map fails before any work
+namespace {
+
+// The end-of-run counts and medians of the frames' stats.
+void SummarizeFrames(RunSummary& summary) {
+  std::vector<double> ba_medians, edge_medians;
+  double tracked_points = 0, plane_residuals = 0;
+  int bas = 0;
+  auto add_crease_check = [&](const CreaseCheckStats& check) {
+    ++summary.crease_keyframes;
+    summary.mean_visible_creases += check.visible_creases;
+    summary.mean_confirmed_creases += check.confirmed_creases;
+    summary.gate_rejected += check.gate_rejected_region + check.gate_rejected_side;
+    if (check.median_edge_px) edge_medians.push_back(*check.median_edge_px);
+  };
+  for (const FrameStats& s : summary.stats) {
+    ++summary.frames;
+    summary.skipped += s.skipped ? 1 : 0;
+    summary.lost += s.state == TrackingState::kLost ? 1 : 0;
+    summary.tracked += (!s.skipped && s.state != TrackingState::kLost) ? 1 : 0;
+    summary.keyframes += s.keyframe ? 1 : 0;
+    tracked_points += s.tracked_points;
+    if (s.ba_median_reprojection_px) ba_medians.push_back(*s.ba_median_reprojection_px);
+    if (s.planes_disabled) summary.planes_disabled = *s.planes_disabled;
+    if (s.consensus_correction) ++summary.consensus_corrections;
+    if (s.crease_check) add_crease_check(*s.crease_check);
+    if (s.ba_plane_residuals) {
+      plane_residuals += *s.ba_plane_residuals;
+      ++bas;
+    }
+  }
+  if (bas > 0) summary.mean_ba_plane_residuals = plane_residuals / bas;
+  if (summary.crease_keyframes > 0) {
+    summary.mean_visible_creases /= summary.crease_keyframes;
+    summary.mean_confirmed_creases /= summary.crease_keyframes;
+  }
+  if (!edge_medians.empty()) {
+    std::sort(edge_medians.begin(), edge_medians.end());
+    summary.median_edge_px = edge_medians[edge_medians.size() / 2];
+  }
+  if (summary.frames > 0) summary.mean_tracked_points = tracked_points / summary.frames;
+  if (!ba_medians.empty()) {
+    std::sort(ba_medians.begin(), ba_medians.end());
+    summary.median_ba_reprojection_px = ba_medians[ba_medians.size() / 2];
+  }
+}
+
+// The run's plane map (none without --planes), with the world frame it sets said in the log.
+std::optional<PlaneMap> ReadRunPlaneMap(const RunOptions& run) {
+  std::optional<PlaneMap> plane_map;
   if (run.planes_path) {
     plane_map = ReadPlaneMap(*run.planes_path);
-    summary.planes = static_cast<int>(plane_map->planes.size());
     if (plane_map->planes.empty()) {
       spdlog::warn("{}: the plane map has no planes; the run is visual odometry only",
                    run.planes_path->string());
@@ -288,34 +333,14 @@ RunSummary RunSequence(const RunOptions& run) {
         StartPriorWarning(*plane_map, run.world_from_cam_initial.translation, run.start_prior);
     if (!warning.empty()) spdlog::warn("{}", warning);
   }
-  std::optional<SettingsFile> settings = ReadSettings(run);
-  std::shared_ptr<const StereoSource> source = run.source;
-  if (!source)
-    source = std::make_shared<KittiSequence>(KittiSequence::Open(run.sequence, run.cameras));
-  const StereoSource& sequence = *source;
-  CheckInput(sequence.size() > 0, sequence.name(), 0, "the sequence has no frames",
-             run.source ? "pass a source with stereo frames"
-                        : "point --sequence at a KITTI odometry sequence or raw drive folder");
-  const EffectiveSettings effective = Effective(run, std::move(settings), sequence.camera());
-  summary.options = effective.options;
-  summary.camera = effective.camera;
-  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
-                              static_cast<std::size_t>(summary.options.num_threads));
-  if (run.write_effective_settings) {
-    WriteTrackerSettings(run.trajectory_path.string() + ".config.yaml", summary.options,
-                         summary.camera, effective.calibration_from_settings,
-                         effective.rectifier.get());
-  }
-  TrajectoryWriter writer(run.trajectory_path, run.format);
-  std::optional<OutputFile> stats_out;
-  if (run.stats_path) stats_out.emplace(*run.stats_path, OutputFile::Mode::kIncremental);
-  const std::size_t total =
-      run.max_frames > 0 ? std::min<std::size_t>(run.max_frames, sequence.size()) : sequence.size();
-  Tracker tracker(summary.camera, summary.options, run.world_from_cam_initial,
-                  plane_map ? &*plane_map : nullptr, run.start_prior);
-  std::optional<ProgressBar> progress;
-  if (run.show_progress) progress.emplace("run", total, "frames");
-  const auto start = std::chrono::steady_clock::now();
+  return plane_map;
+}
+
+// Tracks frames [0, total) of the sequence, writing each pose and stats line as it comes.
+void TrackFrames(const StereoSource& sequence, std::size_t total,
+                 const EffectiveSettings& effective, Tracker& tracker, TrajectoryWriter& writer,
+                 std::optional<OutputFile>& stats_out, std::optional<ProgressBar>& progress,
+                 RunSummary& summary) {
   // The next frames are decoded, rectified and their features extracted and matched while frame
   // i is tracked: none of it depends on the tracker's state, and on 2 cores it otherwise sits on
   // the frame path while tracking, the local map and the keyframe's crease check run on one core.
@@ -384,6 +409,44 @@ RunSummary RunSequence(const RunOptions& run) {
     summary.world_from_cam.push_back(result.world_from_cam);
     if (progress) progress->Update(i + 1);
   }
+}
+
+}  // namespace
+
+RunSummary RunSequence(const RunOptions& run) {
+  RunSummary summary;
+  // Read first: a bad plane map fails before any work.
+  const std::optional<PlaneMap> plane_map = ReadRunPlaneMap(run);
+  if (plane_map) summary.planes = static_cast<int>(plane_map->planes.size());
+  std::optional<SettingsFile> settings = ReadSettings(run);
+  std::shared_ptr<const StereoSource> source = run.source;
+  if (!source)
+    source = std::make_shared<KittiSequence>(KittiSequence::Open(run.sequence, run.cameras));
+  const StereoSource& sequence = *source;
+  CheckInput(sequence.size() > 0, sequence.name(), 0, "the sequence has no frames",
+             run.source ? "pass a source with stereo frames"
+                        : "point --sequence at a KITTI odometry sequence or raw drive folder");
+  const EffectiveSettings effective = Effective(run, std::move(settings), sequence.camera());
+  summary.options = effective.options;
+  summary.camera = effective.camera;
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(summary.options.num_threads));
+  if (run.write_effective_settings) {
+    WriteTrackerSettings(run.trajectory_path.string() + ".config.yaml", summary.options,
+                         summary.camera, effective.calibration_from_settings,
+                         effective.rectifier.get());
+  }
+  TrajectoryWriter writer(run.trajectory_path, run.format);
+  std::optional<OutputFile> stats_out;
+  if (run.stats_path) stats_out.emplace(*run.stats_path, OutputFile::Mode::kIncremental);
+  const std::size_t total =
+      run.max_frames > 0 ? std::min<std::size_t>(run.max_frames, sequence.size()) : sequence.size();
+  Tracker tracker(summary.camera, summary.options, run.world_from_cam_initial,
+                  plane_map ? &*plane_map : nullptr, run.start_prior);
+  std::optional<ProgressBar> progress;
+  if (run.show_progress) progress.emplace("run", total, "frames");
+  const auto start = std::chrono::steady_clock::now();
+  TrackFrames(sequence, total, effective, tracker, writer, stats_out, progress, summary);
   tracker.Finish();
   writer.Close();
   if (stats_out) stats_out->Commit();
@@ -393,46 +456,7 @@ RunSummary RunSequence(const RunOptions& run) {
   if (plane_map) summary.final_map_lock = MapLockName(tracker.map_lock());
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  std::vector<double> ba_medians, edge_medians;
-  double tracked_points = 0, plane_residuals = 0;
-  int bas = 0;
-  auto add_crease_check = [&](const CreaseCheckStats& check) {
-    ++summary.crease_keyframes;
-    summary.mean_visible_creases += check.visible_creases;
-    summary.mean_confirmed_creases += check.confirmed_creases;
-    summary.gate_rejected += check.gate_rejected_region + check.gate_rejected_side;
-    if (check.median_edge_px) edge_medians.push_back(*check.median_edge_px);
-  };
-  for (const FrameStats& s : summary.stats) {
-    ++summary.frames;
-    summary.skipped += s.skipped ? 1 : 0;
-    summary.lost += s.state == TrackingState::kLost ? 1 : 0;
-    summary.tracked += (!s.skipped && s.state != TrackingState::kLost) ? 1 : 0;
-    summary.keyframes += s.keyframe ? 1 : 0;
-    tracked_points += s.tracked_points;
-    if (s.ba_median_reprojection_px) ba_medians.push_back(*s.ba_median_reprojection_px);
-    if (s.planes_disabled) summary.planes_disabled = *s.planes_disabled;
-    if (s.consensus_correction) ++summary.consensus_corrections;
-    if (s.crease_check) add_crease_check(*s.crease_check);
-    if (s.ba_plane_residuals) {
-      plane_residuals += *s.ba_plane_residuals;
-      ++bas;
-    }
-  }
-  if (bas > 0) summary.mean_ba_plane_residuals = plane_residuals / bas;
-  if (summary.crease_keyframes > 0) {
-    summary.mean_visible_creases /= summary.crease_keyframes;
-    summary.mean_confirmed_creases /= summary.crease_keyframes;
-  }
-  if (!edge_medians.empty()) {
-    std::sort(edge_medians.begin(), edge_medians.end());
-    summary.median_edge_px = edge_medians[edge_medians.size() / 2];
-  }
-  if (summary.frames > 0) summary.mean_tracked_points = tracked_points / summary.frames;
-  if (!ba_medians.empty()) {
-    std::sort(ba_medians.begin(), ba_medians.end());
-    summary.median_ba_reprojection_px = ba_medians[ba_medians.size() / 2];
-  }
+  SummarizeFrames(summary);
   if (run.summary_path) {
     std::ofstream out(*run.summary_path);
     out << summary.ToJson() << '\n';
