@@ -126,16 +126,7 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   Frame frame(next_frame_id_++, timestamp, std::move(features), camera_);
 
   const auto track_start = Clock::now();
-  const bool ba_overdue = ba_submitted_frame_ && options_.ba_max_lag_frames > 0 &&
-                          stats.frame - *ba_submitted_frame_ >= options_.ba_max_lag_frames;
-  ApplyBaResults(stats, /*wait=*/ba_overdue);
-  if (ba_overdue) {
-    ba_submitted_frame_.reset();  // also when the worker had no result to give
-    stats.ms_ba += MillisecondsSince(track_start);
-  }
-  ApplyLockResults(stats, nullptr, /*wait=*/false);
-  SubmitDeferredBa(stats);
-  if (planes_) stats.map_lock = MapLockName(map_lock());
+  CatchUpWithWorkers(stats, track_start);
   const Rigid3d predicted = PredictPose();
   bool tracked = false;
   if (last_frame_) {
@@ -170,14 +161,7 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
     velocity_ = frames_skipped_ == 0 ? step : ExpSE3(LogSE3(step) / (frames_skipped_ + 1));
     make_keyframe = NeedKeyframe(frame, stats.inliers);
   } else {
-    // First frame, or loss: start (again) from this frame's stereo at the predicted pose.
-    stats.state = last_frame_ ? TrackingState::kLost : TrackingState::kTracking;
-    lost_before_ = last_frame_.has_value();
-    frame.cam_from_world = predicted;
-    // The new map is tied to the old one only by the motion model: register it again.
-    if (locker_ && last_frame_) locker_->OnLoss(predicted.Inverse(), map_.last_keyframe_id() + 1);
-    std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
-    std::fill(frame.outlier.begin(), frame.outlier.end(), false);
+    RestartFromStereo(frame, predicted, stats);
     make_keyframe = true;
   }
   if (make_keyframe) InsertKeyframe(frame, stats);
@@ -198,6 +182,29 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   last_frame_ = std::move(frame);
   frames_skipped_ = 0;
   return result;
+}
+
+void Tracker::CatchUpWithWorkers(FrameStats& stats, Clock::time_point track_start) {
+  const bool ba_overdue = ba_submitted_frame_ && options_.ba_max_lag_frames > 0 &&
+                          stats.frame - *ba_submitted_frame_ >= options_.ba_max_lag_frames;
+  ApplyBaResults(stats, /*wait=*/ba_overdue);
+  if (ba_overdue) {
+    ba_submitted_frame_.reset();  // also when the worker had no result to give
+    stats.ms_ba += MillisecondsSince(track_start);
+  }
+  ApplyLockResults(stats, nullptr, /*wait=*/false);
+  SubmitDeferredBa(stats);
+  if (planes_) stats.map_lock = MapLockName(map_lock());
+}
+
+void Tracker::RestartFromStereo(Frame& frame, const Rigid3d& predicted, FrameStats& stats) {
+  stats.state = last_frame_ ? TrackingState::kLost : TrackingState::kTracking;
+  lost_before_ = last_frame_.has_value();
+  frame.cam_from_world = predicted;
+  // The new map is tied to the old one only by the motion model: register it again.
+  if (locker_ && last_frame_) locker_->OnLoss(predicted.Inverse(), map_.last_keyframe_id() + 1);
+  std::fill(frame.map_point_ids.begin(), frame.map_point_ids.end(), -1);
+  std::fill(frame.outlier.begin(), frame.outlier.end(), false);
 }
 
 bool Tracker::NeedKeyframe(const Frame& frame, int inliers) const {

@@ -13,6 +13,7 @@
 // keyframes and points that were not moved since its window was built (BaCounts).
 #pragma once
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
@@ -78,6 +79,11 @@ class Tracker {
   const TrackerOptions& options() const { return options_; }
 
  private:
+  // Start of a frame: applies the workers' finished results (waits for a BA overdue by
+  // LocalBA.maxLagFrames) and submits a deferred BA.
+  void CatchUpWithWorkers(FrameStats& stats, std::chrono::steady_clock::time_point track_start);
+  // First frame, or loss: the frame starts (again) from its own stereo at the predicted pose.
+  void RestartFromStereo(Frame& frame, const Rigid3d& predicted, FrameStats& stats);
   bool NeedKeyframe(const Frame& frame, int inliers) const;
   // Local mapping idle (ORB-SLAM2's AcceptKeyFrames): no BA running, queued, waiting to be
   // applied or deferred. Always true in deterministic mode.
