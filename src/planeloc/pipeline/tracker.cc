@@ -578,7 +578,6 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
     }
   }
   if (planes_) stats.planes_disabled = planes_->num_disabled();
-  if (planes_ && stats.crease_check) planes_->FillGateStats(*stats.crease_check);
   if (job.problem.observations.empty()) {
     ++ba_counts_.empty;  // a keyframe without points
     return std::nullopt;
@@ -665,7 +664,6 @@ void Tracker::ReportCreaseCheck(FrameStats& stats) {
   if (crease_stats_ready_.empty()) return;
   stats.crease_check = crease_stats_ready_.front();
   crease_stats_ready_.pop_front();
-  planes_->FillGateStats(*stats.crease_check);
 }
 
 void Tracker::ApplyLockResults(FrameStats& stats, Frame* current, bool wait) {
