@@ -167,10 +167,9 @@ int Run(const RunArgs& args) {
     if (summary.crease_keyframes > 0) {
       spdlog::info(
           "crease check (LSD): {} keyframes, {:.1f} visible / {:.1f} confirmed creases per "
-          "keyframe, median edge distance {}, {} associations refused by the crease gate",
+          "keyframe, median edge distance {}",
           summary.crease_keyframes, summary.mean_visible_creases, summary.mean_confirmed_creases,
-          summary.median_edge_px ? fmt::format("{:.2f} px", *summary.median_edge_px) : "-",
-          summary.gate_rejected);
+          summary.median_edge_px ? fmt::format("{:.2f} px", *summary.median_edge_px) : "-");
     }
     if (options.start_prior.Exact()) {
       spdlog::info(

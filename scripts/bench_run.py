@@ -63,8 +63,8 @@ WRONG_MAP_KINDS = ["vo", "clean", "move0.1", "move0.2", "move0.3", "rot2", "orac
                    "refined"]
 ABLATION_DRIVE = ("small", [3, 11, 21])
 ABLATION_KINDS = ["clean", "move0.2"]
-ABLATION_VARIANTS = ["default", "lambda1", "lambda0.8", "lambda0.2", "creasegate", "fixedwindow",
-                     "oldgate", "noconsensus"]
+ABLATION_VARIANTS = ["default", "lambda1", "lambda0.8", "lambda0.2", "fixedwindow", "oldgate",
+                     "noconsensus"]
 
 # Issue 30's acceptance benchmark (full mode, scripts/bench_map_lock.py): the default prior from
 # the exact start on every drive (seeds 41, 43 and 47 are used by no test and no tuning), and

@@ -46,7 +46,8 @@ struct WindowPlane {
   // The plane's own map error as a nuisance the window estimates (cost_functions.h,
   // PointToCorrectedPlaneError): offset_sigma > 0 adds a correction (offset, tilt) with these
   // prior sigmas, and the points' plane_sigma is then their own uncertainty only.
-  // offset_sigma = 0: the plane is held fixed (the map taken as exact up to plane_sigma).
+  // offset_sigma = 0: the plane is held fixed (the map taken as exact up to plane_sigma). The
+  // tracker (AssociateWindowPlanes) holds every plane fixed.
   double offset_sigma = 0;                           // metres
   double tilt_sigma = 0;                             // radians; 0 holds the tilt at 0 (offset only)
   Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // where the tilt pivots (the centroid)

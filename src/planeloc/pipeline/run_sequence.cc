@@ -267,7 +267,6 @@ void SummarizeFrames(RunSummary& summary) {
     ++summary.crease_keyframes;
     summary.mean_visible_creases += check.visible_creases;
     summary.mean_confirmed_creases += check.confirmed_creases;
-    summary.gate_rejected += check.gate_rejected_region + check.gate_rejected_side;
     if (check.median_edge_px) edge_medians.push_back(*check.median_edge_px);
   };
   for (const FrameStats& s : summary.stats) {

@@ -75,12 +75,10 @@ struct RunSummary {
   TrackerOptions options;                // effective
   StereoCamera camera;                   // effective (sequence or settings calibration)
   // The LSD crease check (crease_check.h) over the checked keyframes: their number, the mean
-  // visible and confirmed creases, the median of their median edge distances (px) and the
-  // associations the crease gate refused.
+  // visible and confirmed creases and the median of their median edge distances (px).
   int crease_keyframes = 0;
   double mean_visible_creases = 0, mean_confirmed_creases = 0;
   std::optional<double> median_edge_px;
-  int gate_rejected = 0;
   // The counts above (not the per-frame vectors) as one JSON object.
   std::string ToJson() const;
 };

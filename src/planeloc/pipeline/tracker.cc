@@ -379,7 +379,6 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
     }
   }
   if (planes_) stats.planes_disabled = planes_->num_disabled();
-  if (planes_ && stats.crease_check) planes_->FillGateStats(*stats.crease_check);
   if (job.problem.observations.empty()) {
     ++ba_counts_.empty;  // a keyframe without points
     return std::nullopt;

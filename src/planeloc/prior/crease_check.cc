@@ -100,9 +100,6 @@ void CreaseCheckOptions::Check() const {
   Require(max_angle_deg > 0 && max_angle_deg < 90, "max_angle_deg must be in (0, 90)");
   Require(confirm_px > 0 && search_px >= confirm_px, "confirm_px must be in (0, search_px] (px)");
   Require(min_overlap > 0 && min_overlap <= 1, "min_overlap must be in (0, 1]");
-  Require(region_margin >= 0 && max_region_margin_px >= 0,
-          "region_margin and max_region_margin_px must be >= 0");
-  Require(side_tolerance_px >= 0, "side_tolerance_px must be >= 0 (px)");
   Require(keep_keyframes >= 1, "keep_keyframes must be >= 1");
 }
 
@@ -112,11 +109,7 @@ std::string CreaseCheckStats::ToJson() const {
       "\"confirmed_creases\":{},\"matched_runs\":{}",
       keyframe_id, lsd_segments, visible_planes, visible_creases, confirmed_creases, matched_runs);
   if (median_edge_px) json += fmt::format(",\"median_edge_px\":{:.3f}", *median_edge_px);
-  return json + fmt::format(
-                    ",\"gate_rejected\":{},\"gate_rejected_region\":{},\"gate_rejected_side\":{},"
-                    "\"ms\":{:.3f}}}",
-                    gate_rejected_region + gate_rejected_side, gate_rejected_region,
-                    gate_rejected_side, ms);
+  return json + fmt::format(",\"ms\":{:.3f}}}", ms);
 }
 
 PlaneLabelImage RenderPlaneLabels(const std::vector<MapPlane>& planes,
@@ -354,7 +347,6 @@ KeyframeCreaseCheck CreaseChecker::Compute(const Rigid3d& cam_from_world,
   const auto start = std::chrono::steady_clock::now();
   KeyframeCreaseCheck check;
   check.cam_from_world = cam_from_world;
-  check.fx = camera.fx;
   check.labels = RenderPlaneLabels(planes_, cam_from_world, camera, options_);
   check.runs = ProjectCreases(creases_, check.labels, cam_from_world, camera, options_);
   const std::vector<LineSegment> segments =
@@ -394,50 +386,6 @@ void CreaseChecker::Keep(int keyframe_id, KeyframeCreaseCheck check) {
 const KeyframeCreaseCheck* CreaseChecker::check(int keyframe_id) const {
   const auto it = checks_.find(keyframe_id);
   return it == checks_.end() ? nullptr : &it->second;
-}
-
-CreaseChecker::Verdict CreaseChecker::Judge(int keyframe_id, const Eigen::Vector2d& keypoint,
-                                            const Eigen::Vector3d& point_in_map,
-                                            int plane_id) const {
-  const KeyframeCreaseCheck* check = this->check(keyframe_id);
-  if (!check) return Verdict::kAllowed;
-  // Inside the plane's image region, grown by the associator's margin at the point's depth.
-  const PlaneLabelImage& labels = check->labels;
-  const double depth = std::max((check->cam_from_world * point_in_map).z(), options_.near_depth);
-  const double margin_px =
-      std::min(options_.max_region_margin_px, check->fx * options_.region_margin / depth);
-  const int reach = static_cast<int>(std::ceil(margin_px / labels.downsample));
-  const cv::Point c = Cell(labels, keypoint);
-  bool inside = !options_.gate_region;
-  for (int y = std::max(0, c.y - reach);
-       !inside && y <= std::min(labels.plane_id.rows - 1, c.y + reach); ++y) {
-    for (int x = std::max(0, c.x - reach); x <= std::min(labels.plane_id.cols - 1, c.x + reach);
-         ++x) {
-      if (labels.IdAt(x, y) == plane_id) {
-        inside = true;
-        break;
-      }
-    }
-  }
-  if (!inside) return Verdict::kOutsideRegion;
-  if (!options_.gate_side) return Verdict::kAllowed;
-  // Not across a confirmed crease that bounds the plane.
-  for (const ProjectedCrease& run : check->runs) {
-    if (!run.confirmed) continue;
-    const int side =
-        run.plane_a == plane_id ? run.side_a : (run.plane_b == plane_id ? run.side_b : 0);
-    if (side == 0) continue;
-    const Eigen::Vector2d axis = run.end - run.start;
-    const double length = axis.norm();
-    const Eigen::Vector2d e = axis / length;
-    const double along = e.dot(keypoint - run.start);
-    if (along < 0 || along > length) continue;
-    const double from_edge = Cross(e, keypoint - run.start) - run.image_offset_px;
-    if (side * from_edge < -options_.side_tolerance_px) {
-      return Verdict::kAcrossCrease;
-    }
-  }
-  return Verdict::kAllowed;
 }
 
 }  // namespace planeloc

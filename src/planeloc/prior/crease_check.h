@@ -1,5 +1,5 @@
 // The image-side check of the plane map at keyframes (the paper's §III-D/E: LSD line segments
-// mark where planes meet in the image), and the association gate built on it.
+// mark where planes meet in the image).
 //
 // At a keyframe: LSD (features/line_segments.h) runs on one level of the ORB pyramid; the plane
 // map is rendered at the keyframe's pose into a coarse label image (nearest plane per cell,
@@ -11,12 +11,6 @@
 // nearest matching segment's end points (within search_px); the run is confirmed when segments
 // within confirm_px cover at least min_overlap of it. The outlines' own edges are never compared
 // with the image: they are only as good as the map's cells.
-//
-// Gate (PlaneAssociationOptions::crease_gate): a point may be associated with plane k only if, in
-// every checked keyframe observing it, its keypoint lies in k's image region (within the
-// associator's polygon margin, region_margin metres at the point's depth, of a cell labelled k)
-// and not more than side_tolerance_px across a confirmed crease bounding k (on the other side of
-// the crease line, within the crease's visible extent).
 #pragma once
 
 #include <Eigen/Core>
@@ -52,20 +46,12 @@ struct CreaseCheckOptions {
   // (third) plane its cell shows by more than this is occluded.
   double occlusion_margin = 0.1;
   double occlusion_relative = 0.02;
-  double min_visible_px = 30.0;        // pixels: shorter visible runs of a crease are not checked
-  double max_angle_deg = 3.0;          // LSD segment vs projected crease
-  double search_px = 20.0;             // pixels: nearest parallel segment searched within
-  double confirm_px = 3.0;             // pixels (Planes.creaseConfirmPx)
-  double min_overlap = 0.3;            // fraction of a visible run covered by confirming segments
-  double region_margin = 0.5;          // metres at the point's depth (Planes.polygonMargin)
-  double max_region_margin_px = 40.0;  // pixels: cap of that margin for near points
-  // Pixels across a confirmed crease (its image edge) still accepted
-  // (Planes.creaseSideTolerancePx).
-  double side_tolerance_px = 2.0;
-  // The gate's two tests, for the ablation (Planes.creaseGateRegion / creaseGateSide).
-  bool gate_region = true;  // keypoint in the plane's image region
-  bool gate_side = true;    // keypoint not across a confirmed crease bounding the plane
-  int keep_keyframes = 64;  // checks kept for the gate (newest)
+  double min_visible_px = 30.0;  // pixels: shorter visible runs of a crease are not checked
+  double max_angle_deg = 3.0;    // LSD segment vs projected crease
+  double search_px = 20.0;       // pixels: nearest parallel segment searched within
+  double confirm_px = 3.0;       // pixels (Planes.creaseConfirmPx)
+  double min_overlap = 0.3;      // fraction of a visible run covered by confirming segments
+  int keep_keyframes = 64;       // checks kept (the newest), CreaseChecker::check
 
   void Check() const;  // throws OptionsError naming the field
 };
@@ -78,11 +64,8 @@ struct CreaseCheckStats {
   int confirmed_creases = 0;             // creases with a confirmed run
   int matched_runs = 0;                  // visible runs with a parallel segment within search_px
   std::optional<double> median_edge_px;  // median edge distance of those runs, level-0 pixels
-  // Associations the gate refused in the keyframe's BA window: outside the plane's image
-  // region, across a confirmed crease.
-  int gate_rejected_region = 0, gate_rejected_side = 0;
-  double ms = 0;               // LSD + projection + matching
-  std::string ToJson() const;  // one JSON object
+  double ms = 0;                         // LSD + projection + matching
+  std::string ToJson() const;            // one JSON object
 };
 
 // The planes' image regions at one pose: per cell of label_downsample level-0 pixels, the id of
@@ -107,13 +90,12 @@ struct ProjectedCrease {
   bool confirmed = false;
   // Pixels: where the image shows the crease, relative to the projected line: the mean signed
   // offset (along +90 deg of start->end, as the sides) of the confirming segments, weighted by
-  // their overlap. The gate measures "across" from the line shifted by it.
+  // their overlap.
   double image_offset_px = 0;
 };
 
 struct KeyframeCreaseCheck {
   Rigid3d cam_from_world;
-  double fx = 0;  // of the camera, for the gate's margin
   PlaneLabelImage labels;
   std::vector<ProjectedCrease> runs;
   CreaseCheckStats stats;
@@ -150,25 +132,16 @@ class CreaseChecker {
   CreaseChecker(const PlaneMap& map, const CreaseCheckOptions& options);
 
   // Checks keyframe `keyframe_id` at `cam_from_world` (map frame) against `image`, its left grey
-  // image at pyramid level options.lsd_level; keeps the result for Allows (the newest
-  // keep_keyframes keyframes).
+  // image at pyramid level options.lsd_level; keeps the result (the newest keep_keyframes
+  // keyframes, check()).
   CreaseCheckStats CheckKeyframe(int keyframe_id, const Rigid3d& cam_from_world,
                                  const StereoCamera& camera, const cv::Mat& image);
   // CheckKeyframe in two steps, so that the expensive one (LSD, rendering, matching) can run on
   // the BA worker: Compute reads only what the constructor set, so it may run on another thread
-  // while this thread calls Judge; Keep stores the result for the gate (this thread).
+  // while this thread calls check(); Keep stores the result (this thread).
   KeyframeCreaseCheck Compute(const Rigid3d& cam_from_world, const StereoCamera& camera,
                               const cv::Mat& image) const;
   void Keep(int keyframe_id, KeyframeCreaseCheck check);
-  // The gate for one view of a point (see the header comment): its keypoint in keyframe
-  // `keyframe_id` (level-0 pixels) and its position. True when the keyframe was not checked.
-  enum class Verdict { kAllowed, kOutsideRegion, kAcrossCrease };
-  Verdict Judge(int keyframe_id, const Eigen::Vector2d& keypoint,
-                const Eigen::Vector3d& point_in_map, int plane_id) const;
-  bool Allows(int keyframe_id, const Eigen::Vector2d& keypoint, const Eigen::Vector3d& point_in_map,
-              int plane_id) const {
-    return Judge(keyframe_id, keypoint, point_in_map, plane_id) == Verdict::kAllowed;
-  }
 
   const std::vector<PlaneCrease>& creases() const { return creases_; }
   const KeyframeCreaseCheck* check(int keyframe_id) const;

@@ -35,24 +35,12 @@ void PlaneAssociationOptions::Check() const {
   }
   if (!(cell_size > 0.0)) throw OptionsError("PlaneAssociationOptions.cell_size must be > 0 (m)");
   if (!(gate_chi2 > 0.0)) throw OptionsError("PlaneAssociationOptions.gate_chi2 must be > 0");
-  if (common_mode_points < 0) {
-    throw OptionsError("PlaneAssociationOptions.common_mode_points must be >= 0 (0: off)");
-  }
   if (!(map_sigma >= 0.0)) {
     throw OptionsError("PlaneAssociationOptions.map_sigma must be >= 0 (m)");
-  }
-  if (!(std::isfinite(correction_tilt_sigma_deg) && correction_tilt_sigma_deg >= 0 &&
-        correction_tilt_sigma_deg <= 10)) {
-    throw OptionsError(
-        "PlaneAssociationOptions.correction_tilt_sigma_deg must be in [0, 10] degrees (0: the "
-        "correction holds the tilt)");
   }
   if (!(std::isfinite(bias_peer_angle_deg) && bias_peer_angle_deg >= 0 &&
         bias_peer_angle_deg < 90)) {
     throw OptionsError("PlaneAssociationOptions.bias_peer_angle_deg must be in [0, 90) degrees");
-  }
-  if (!(std::isfinite(bias_common_allowance) && bias_common_allowance >= 0.0)) {
-    throw OptionsError("PlaneAssociationOptions.bias_common_allowance must be >= 0 (m)");
   }
   if (!(pixel_sigma > 0.0)) {
     throw OptionsError("PlaneAssociationOptions.pixel_sigma must be > 0 (px)");
@@ -183,7 +171,6 @@ PlaneAssociator::PlaneAssociator(const PlaneMap& planes, const PlaneAssociationO
   if (options_.crease_check) {
     CreaseCheckOptions crease = options_.crease;
     crease.creases.min_plane_area = options_.min_plane_area;
-    crease.region_margin = options_.polygon_margin;
     creases_ = std::make_unique<CreaseChecker>(planes, crease);
   }
 }
@@ -196,30 +183,6 @@ std::optional<CreaseCheckStats> PlaneAssociator::CheckKeyframe(
     return std::nullopt;
   }
   return creases_->CheckKeyframe(keyframe_id, cam_from_world, camera, left_pyramid[level]);
-}
-
-cv::Mat PlaneAssociator::CreaseCheckImage(const std::vector<cv::Mat>& left_pyramid) const {
-  const int level = options_.crease.lsd_level;
-  if (!creases_ || level >= static_cast<int>(left_pyramid.size())) return {};
-  return left_pyramid[level];
-}
-
-void PlaneAssociator::KeepCreaseCheck(int keyframe_id, KeyframeCreaseCheck check) {
-  if (creases_) creases_->Keep(keyframe_id, std::move(check));
-}
-
-bool PlaneAssociator::GateAllows(int plane_id, const Eigen::Vector3d& point_in_map,
-                                 const std::vector<KeypointView>& views) {
-  if (!options_.crease_gate || !creases_) return true;
-  for (const KeypointView& view : views) {
-    const CreaseChecker::Verdict verdict =
-        creases_->Judge(view.keyframe_id, view.keypoint, point_in_map, plane_id);
-    if (verdict != CreaseChecker::Verdict::kAllowed) {
-      ++gate_rejections_[verdict == CreaseChecker::Verdict::kOutsideRegion ? 0 : 1];
-      return false;
-    }
-  }
-  return true;
 }
 
 std::int64_t PlaneAssociator::CellKey(const Eigen::Vector3d& point) const {
@@ -270,11 +233,6 @@ std::optional<int> PlaneAssociator::Associate(const Eigen::Vector3d& point_in_ma
   return found;
 }
 
-double PlaneAssociator::SurfaceDistance(const FlatPlane& flat, const Eigen::Vector3d& x) const {
-  const double s = flat.plane.plane_in_map.SignedDistance(x);
-  return flat.health.disabled ? s - flat.health.median : s;
-}
-
 double PlaneAssociator::Variance(const FlatPlane& flat) const {
   return flat.plane.rms * flat.plane.rms + options_.map_sigma * options_.map_sigma + flat.bias2;
 }
@@ -287,23 +245,18 @@ std::optional<PlaneAssociation> PlaneAssociator::Associate(const PointEstimate& 
   ForCandidates(x, [&](std::size_t index) {
     const FlatPlane& flat = planes_[index];
     const Plane& plane = flat.plane.plane_in_map;
-    // A disabled plane still stands for a surface where its points were seen (its plane moved
-    // by their median): a point on that surface is not given to a neighbouring plane whose gate
-    // it also passes (a sidewalk 8 cm above a disabled road would otherwise take the road's
-    // points near the kerb and lift the camera).
-    if (flat.health.disabled && !options_.disabled_planes_block) return true;
-    const double s = SurfaceDistance(flat, x);
+    if (flat.health.disabled) return true;
+    const double s = plane.SignedDistance(x);
     if (std::abs(s) > options_.max_distance) return true;
     const double map_variance = Variance(flat);
     const double variance = plane.normal.dot(estimate.covariance * plane.normal) + map_variance;
     if (s * s > options_.gate_chi2 * variance) return true;
     if (!InsideOutline(flat, x)) return true;
-    if (flat.health.disabled || (found && found->plane_id != flat.plane.id)) {
+    if (found && found->plane_id != flat.plane.id) {
       ambiguous = true;
       return false;
     }
-    found = PlaneAssociation{flat.plane.id, s, std::sqrt(variance), map_variance,
-                             flat.health.common_bias * flat.health.common_bias};
+    found = PlaneAssociation{flat.plane.id, s, std::sqrt(variance), map_variance};
     return true;
   });
   if (ambiguous) return std::nullopt;
@@ -325,18 +278,8 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
   ForCandidates(x, [&](std::size_t index) {
     const FlatPlane& flat = planes_[index];
     const Plane& plane = flat.plane.plane_in_map;
-    // A disabled plane, moved by its median, blocks as in Associate (no statistics of its own).
-    if (flat.health.disabled && !options_.disabled_planes_block) return true;
-    const double s = SurfaceDistance(flat, x);
-    if (flat.health.disabled) {
-      const double variance = plane.normal.dot(estimate.covariance * plane.normal) + Variance(flat);
-      if (std::abs(s) > options_.max_distance || s * s > options_.gate_chi2 * variance ||
-          !InsideOutline(flat, x)) {
-        return true;
-      }
-      ambiguous = true;
-      return false;
-    }
+    if (flat.health.disabled) return true;
+    const double s = plane.SignedDistance(x);
     if (std::abs(s) > options_.stats_band) return true;
     const double point_variance = plane.normal.dot(estimate.covariance * plane.normal);
     if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) {
@@ -401,10 +344,6 @@ int PlaneAssociator::UpdateHealth(int associations) {
   if (!pending_.empty()) FinishRecords();
   ++windows_;
   total_associations_ += associations;
-  for (int k = 0; k < 2; ++k) {
-    window_gate_rejections_[k] = gate_rejections_[k];
-    gate_rejections_[k] = 0;
-  }
   int disabled_now = 0, judged = 0;
   std::vector<double> values;
   std::vector<std::size_t> touched;  // planes with points in this window, statistics updated
@@ -425,89 +364,39 @@ int PlaneAssociator::UpdateHealth(int associations) {
     health.standard_error = location.standard_error;
     if (!was_judged && health.points >= options_.bias_min_points) ++judged;
   }
-  const double cos_peer = std::cos(options_.bias_peer_angle_deg * std::numbers::pi / 180.0);
-  std::vector<std::pair<double, double>> witnesses;  // (offset along the normal, sigma)
   for (const std::size_t index : touched) {
     FlatPlane& flat = planes_[index];
     PlaneHealth& health = flat.health;
     const Eigen::Vector3d& normal = flat.plane.plane_in_map.normal;
-    // The trajectory's own error e in the map frame moves every plane's points by n.e. A plane
-    // is judged by witnesses: the trajectory as it is (offset 0; the only one before) and its
-    // peers in this window (planes of about the same normal with enough points, offset n_k.n_j
-    // times their median). Its bias is its offset from their median: one wrong peer cannot make
-    // a right plane look wrong, and a trajectory that drifted along the normal is seen by all. A
-    // plane without peers is judged by the trajectory alone, which can be the one that is off: with
-    // bias_peers it is only down-weighted, never moved or disabled (an end wall across a
-    // straight street, the only along-track hold, would otherwise be given up exactly when
-    // along-track drift needs it).
-    witnesses.assign(1,
-                     {0.0, std::sqrt(std::max(0.0, normal.dot(trajectory_covariance_ * normal)))});
-    for (const std::size_t other : touched) {
-      if (!options_.bias_peers) break;
-      const FlatPlane& peer = planes_[other];
-      if (other == index || 2 * peer.health.points < options_.bias_min_points) continue;
-      const double alignment = peer.plane.plane_in_map.normal.dot(normal);
-      if (std::abs(alignment) < cos_peer) continue;
-      witnesses.emplace_back(alignment * peer.health.median, peer.health.standard_error);
-    }
-    const int peers = static_cast<int>(witnesses.size()) - 1;
-    // The witnesses' median; of the two middle ones, the nearer to this plane's median.
-    std::sort(witnesses.begin(), witnesses.end());
-    const std::size_t upper = witnesses.size() / 2;
-    std::size_t middle = upper;
-    if (witnesses.size() % 2 == 0 && std::abs(witnesses[upper - 1].first - health.median) <
-                                         std::abs(witnesses[upper].first - health.median)) {
-      middle = upper - 1;
-    }
-    const double bias = health.median - witnesses[middle].first;
-    const double bias_sigma = std::hypot(health.standard_error, witnesses[middle].second);
-    // Down-weighting: from half the points needed to judge, the part of the bias its witnesses'
-    // uncertainty does not explain joins the plane sigma.
-    const double unexplained = std::max(0.0, std::abs(bias) - witnesses[middle].second);
+    // The trajectory's own error e in the map frame moves every plane's points by n.e: the
+    // plane's bias is its points' median, with the trajectory's uncertainty along the normal.
+    const double trajectory_sigma =
+        std::sqrt(std::max(0.0, normal.dot(trajectory_covariance_ * normal)));
+    const double bias = health.median;
+    const double bias_sigma = std::hypot(health.standard_error, trajectory_sigma);
+    // Down-weighting: from half the points needed to judge, the part of the bias the
+    // trajectory's uncertainty does not explain joins the plane sigma.
+    const double unexplained = std::max(0.0, std::abs(bias) - trajectory_sigma);
     flat.bias2 = 2 * health.points >= options_.bias_min_points ? unexplained * unexplained : 0.0;
-    if (options_.bias_common_mode && 2 * health.points >= options_.bias_min_points) {
-      const double excess = std::max(0.0, unexplained - options_.bias_common_allowance);
-      health.common_bias =
-          options_.bias_common_hold ? std::max(health.common_bias, excess) : excess;
-    }
-    spdlog::debug(
-        "plane health: window {} plane {} points {} median {:+.3f} m (se {:.3f}) peers {} "
-        "bias {:+.3f} common {:.3f}",
-        windows_, flat.plane.id, health.points, health.median, health.standard_error, peers, bias,
-        health.common_bias);
+    spdlog::debug("plane health: window {} plane {} points {} median {:+.3f} m (se {:.3f})",
+                  windows_, flat.plane.id, health.points, health.median, health.standard_error);
     // The window's planes agree that the trajectory is off by this plane's offset: the
     // trajectory's error, not the plane's, until the tracker has corrected it or not.
     const bool explained = std::find(consensus_.supporters.begin(), consensus_.supporters.end(),
                                      index) != consensus_.supporters.end();
-    const bool judgeable = (!options_.bias_peers || peers > 0) && !explained;
-    if (judgeable && health.points >= options_.bias_min_points &&
+    if (!explained && health.points >= options_.bias_min_points &&
         std::abs(bias) > options_.bias_min &&
         std::abs(bias) > options_.bias_significance * bias_sigma) {
       flat.bias2 = 0;
       flat.distance_by_point.clear();
-      if (options_.reanchor_biased && !health.reanchored) {
-        // s = n.x + d: the points sit at s = bias off the peers' reference, so d - bias puts
-        // the plane where its peers say its points are.
-        flat.plane.plane_in_map.d -= bias;
-        health.reanchored = true;
-        health.shift = -bias;
-        health.median -= bias;  // its points' offset from the moved plane, for its peers
-        ++num_reanchored_;
-        spdlog::warn(
-            "{}: plane {} moved by {:+.3f} m along its normal for this run: its {} points sat "
-            "{:+.3f} m off it, {:+.3f} m off the trajectory and its {} peers (median signed "
-            "distances of their stereo estimates, standard error {:.3f} m); the map is wrong there",
-            map_name_, flat.plane.id, -bias, health.points, health.median, bias, peers, bias_sigma);
-        continue;
-      }
-      health.disabled = true;  // moved by its median, it still blocks (Associate, Record)
+      health.disabled = true;
       ++num_disabled_;
       ++disabled_now;
       spdlog::warn(
-          "{}: plane {} disabled for this run: its {} points sit {:+.3f} m off it, {:+.3f} m off "
-          "the trajectory and its {} peers (median signed distances of their stereo estimates, "
-          "standard error {:.3f} m); the map is wrong there",
-          map_name_, flat.plane.id, health.points, health.median, bias, peers, bias_sigma);
+          "{}: plane {} disabled for this run: its {} points sit {:+.3f} m off it (median signed "
+          "distance of their stereo estimates, standard error {:.3f} m with the trajectory's "
+          "uncertainty); the map is wrong there",
+          map_name_, flat.plane.id, health.points, health.median, bias_sigma);
     }
   }
   if (!warned_no_association_ && windows_ >= options_.warn_after_windows &&
@@ -538,21 +427,14 @@ void PlaneAssociator::SetTrajectoryCovariance(const Eigen::Matrix3d& position_co
 
 void PlaneAssociator::ResetHealth() {
   for (FlatPlane& flat : planes_) {
-    flat.plane.plane_in_map.d -= flat.health.shift;  // back where the map has it
     flat.health = PlaneHealth{};
     flat.bias2 = 0;
     flat.distance_by_point.clear();
     flat.touched = false;
   }
   num_disabled_ = 0;
-  num_reanchored_ = 0;
   pending_.clear();
   consensus_ = TrajectoryConsensus{};
-}
-
-void PlaneAssociator::FillGateStats(CreaseCheckStats& stats) const {
-  stats.gate_rejected_region = window_gate_rejections_[0];
-  stats.gate_rejected_side = window_gate_rejections_[1];
 }
 
 const MapPlane& PlaneAssociator::plane(int id) const {

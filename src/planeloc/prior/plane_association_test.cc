@@ -328,36 +328,6 @@ std::vector<int> RecordWalls(PlaneAssociator& planes, const std::vector<double>&
   return disabled;
 }
 
-// Planes.biasPeers: a trajectory 0.15 m off along z moves the points of every wall facing z by
-// 0.15 m. Judged by the trajectory alone, all three walls are "biased"; judged with their peers,
-// none is, and a wall really 0.2 m off its peers is found.
-TEST(PlaneAssociationTest, PeersTellATrajectoryErrorFromAWrongPlane) {
-  const std::vector<double> walls = {0.0, 0.0, 0.0};
-  PlaneAssociator alone(WallsAcross(walls), BiasTestOptions());
-  RecordWalls(alone, {0.15, 0.15, 0.15}, 4);
-  EXPECT_EQ(alone.num_disabled(), 3);
-
-  PlaneAssociationOptions options = BiasTestOptions();
-  options.bias_peers = true;
-  PlaneAssociator peers(WallsAcross(walls), options);
-  RecordWalls(peers, {0.15, 0.15, 0.15}, 4);
-  EXPECT_EQ(peers.num_disabled(), 0);
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(peers.health(k).median, 0.15, 0.02);
-
-  PlaneAssociator one_wrong(WallsAcross(walls), options);
-  RecordWalls(one_wrong, {0.1, 0.3, 0.1}, 4);  // within the statistics band (0.35 m)
-  EXPECT_FALSE(one_wrong.health(0).disabled);
-  EXPECT_TRUE(one_wrong.health(1).disabled);
-  EXPECT_FALSE(one_wrong.health(2).disabled);
-
-  // A wall without peers is the only witness of its direction: down-weighted, never disabled.
-  PlaneAssociator lone(WallsAcross({0.0}), options);
-  const double sigma0 = lone.PlaneSigma(0);
-  RecordWalls(lone, {0.3}, 4);
-  EXPECT_FALSE(lone.health(0).disabled);
-  EXPECT_GT(lone.PlaneSigma(0), std::hypot(sigma0, 0.25));
-}
-
 // Planes.trajectoryConsensus: walls facing z that all sit 0.25 m off the trajectory say that the
 // trajectory is 0.25 m off (the tracker then moves its map, tracker_sim_test). While they say so
 // they are not disabled, where the trajectory alone disables all three.
@@ -419,98 +389,31 @@ TEST(PlaneAssociationTest, ATrajectoryOffsetNeedsMorePlanesForItThanAgainstIt) {
   }
 }
 
-// Planes.reanchorBiased: a wall 0.2 m off its points is moved onto them, by its bias measured
-// against its peers, and kept; a map-frame correction (ResetHealth) puts it back.
-TEST(PlaneAssociationTest, ABiasedPlaneIsMovedOntoItsPoints) {
-  PlaneAssociationOptions options = BiasTestOptions();
-  options.reanchor_biased = true;
-  options.bias_peers = true;
-  const std::vector<double> walls = {0.0, 0.0, 0.0};
-  PlaneAssociator planes(WallsAcross(walls), options);
-  const double d0 = planes.plane(1).plane_in_map.d;
-  RecordWalls(planes, {0.05, 0.25, 0.05}, 5);
-  EXPECT_EQ(planes.num_disabled(), 0);
-  EXPECT_EQ(planes.num_reanchored(), 1);
-  EXPECT_TRUE(planes.health(1).reanchored);
-  // Moved by the 0.2 m it sits off its peers (the trajectory's 0.05 m stays with the others).
-  EXPECT_NEAR(planes.health(1).shift, -0.2, 0.02);
-  EXPECT_NEAR(planes.plane(1).plane_in_map.d, d0 - 0.2, 0.02);
-  PointEstimate on_surface;
-  on_surface.point_in_map = Eigen::Vector3d(14, 2, 10.25);
-  on_surface.covariance = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
-  const auto association = planes.Associate(on_surface);
+// A disabled plane takes no points, and leaves the points near its neighbours to them: a road
+// plane disabled because its points sit 0.2 m below it no longer takes a point 2 cm above it,
+// and a sidewalk plane 8 cm above the road's real surface, whose outline overlaps the road,
+// takes a point on that surface.
+TEST(PlaneAssociationTest, ADisabledPlaneTakesNoPoints) {
+  PlaneMap map = WallsAcross({0.0});
+  // The "sidewalk": z = 10.28, over x in [0, 4] only (the road's points are recorded beyond).
+  map.planes.push_back(MakePlane(1, Plane(Eigen::Vector3d(0, 0, 1), -10.28),
+                                 {{0, 0, 10.28}, {4, 0, 10.28}, {4, 5, 10.28}, {0, 5, 10.28}}, 20));
+  PlaneAssociator planes(map, BiasTestOptions());
+  PointEstimate on_road;  // beyond the sidewalk's outline
+  on_road.point_in_map = Eigen::Vector3d(6, 2, 10.02);
+  on_road.covariance = Eigen::Matrix3d::Identity() * 0.02 * 0.02;
+  const auto before = planes.Associate(on_road);
+  ASSERT_TRUE(before.has_value());
+  EXPECT_EQ(before->plane_id, 0);
+  RecordWalls(planes, {0.2}, 4, 5.0, 8.5);
+  ASSERT_TRUE(planes.health(0).disabled);
+  EXPECT_FALSE(planes.Associate(on_road).has_value());
+  PointEstimate road_point;  // on the road's real surface, within the sidewalk's gate
+  road_point.point_in_map = Eigen::Vector3d(2, 2, 10.2);
+  road_point.covariance = Eigen::Matrix3d::Identity() * 0.02 * 0.02;
+  const auto association = planes.Associate(road_point);
   ASSERT_TRUE(association.has_value());
   EXPECT_EQ(association->plane_id, 1);
-  EXPECT_NEAR(association->signed_distance, 0.05, 0.02);
-  planes.ResetHealth();
-  EXPECT_DOUBLE_EQ(planes.plane(1).plane_in_map.d, d0);
-  EXPECT_EQ(planes.num_reanchored(), 0);
-}
-
-// Planes.disabledPlanesBlock: a road plane disabled because its points sit 0.2 m below it still
-// stands for their surface; a sidewalk plane 8 cm above that surface, whose outline overlaps it,
-// does not take its points.
-TEST(PlaneAssociationTest, ADisabledPlaneStillBlocksItsSurface) {
-  for (const bool block : {false, true}) {
-    PlaneMap map = WallsAcross({0.0});
-    // The "sidewalk": z = 10.28, over x in [0, 4] only (the road's points are recorded beyond).
-    map.planes.push_back(MakePlane(1, Plane(Eigen::Vector3d(0, 0, 1), -10.28),
-                                   {{0, 0, 10.28}, {4, 0, 10.28}, {4, 5, 10.28}, {0, 5, 10.28}},
-                                   20));
-    PlaneAssociationOptions options = BiasTestOptions();
-    options.disabled_planes_block = block;
-    PlaneAssociator planes(map, options);
-    RecordWalls(planes, {0.2}, 4, 5.0, 8.5);
-    ASSERT_TRUE(planes.health(0).disabled);
-    PointEstimate road_point;  // on the road's real surface, within the sidewalk's gate
-    road_point.point_in_map = Eigen::Vector3d(2, 2, 10.2);
-    road_point.covariance = Eigen::Matrix3d::Identity() * 0.02 * 0.02;
-    const auto association = planes.Associate(road_point);
-    EXPECT_EQ(association.has_value(), !block) << "block " << block;
-    PointEstimate sidewalk_point = road_point;
-    sidewalk_point.point_in_map.z() = 10.28;  // on the sidewalk, 8 cm off the road's surface
-    sidewalk_point.covariance = Eigen::Matrix3d::Identity() * 0.005 * 0.005;
-    ASSERT_TRUE(planes.Associate(sidewalk_point).has_value()) << "block " << block;
-  }
-}
-
-// Planes.biasCommonMode: a wall whose points sit 7 cm off it has the common-mode bias
-// b = 7 cm - allowance, handed to every association with it (the window multiplies it by its
-// point count). When the points come back onto the wall (the trajectory pulled onto it), b is
-// kept with biasCommonHold and follows them without; off, no association carries any.
-TEST(PlaneAssociationTest, ABiasIsCommonToAPlanesPointsAndHeldForTheRun) {
-  PointEstimate on_wall;
-  on_wall.point_in_map = Eigen::Vector3d(4, 2, 10.07);
-  on_wall.covariance = Eigen::Matrix3d::Identity() * 0.02 * 0.02;
-  for (const bool hold : {true, false}) {
-    PlaneAssociationOptions options = BiasTestOptions();
-    options.bias_min = 0.5;  // never disabled here: only the weighting is tested
-    options.bias_common_mode = true;
-    options.bias_common_allowance = 0.02;
-    options.bias_common_hold = hold;
-    PlaneAssociator planes(WallsAcross({0.0}), options);
-    RecordWalls(planes, {0.07}, 4);
-    // Median of 60 points with 3 cm noise: standard error about 5 mm.
-    EXPECT_NEAR(planes.health(0).common_bias, 0.05, 0.01) << "hold " << hold;
-    auto association = planes.Associate(on_wall);
-    ASSERT_TRUE(association.has_value());
-    EXPECT_DOUBLE_EQ(association->common_variance, std::pow(planes.health(0).common_bias, 2));
-    RecordWalls(planes, {0.0}, 4);  // the same point ids, now on the wall
-    EXPECT_NEAR(planes.health(0).median, 0.0, 0.01);
-    if (hold) {
-      EXPECT_NEAR(planes.health(0).common_bias, 0.05, 0.01);
-    } else {
-      EXPECT_LT(planes.health(0).common_bias, 0.01);
-    }
-  }
-  PlaneAssociationOptions off = BiasTestOptions();
-  off.bias_min = 0.5;
-  PlaneAssociator planes(WallsAcross({0.0}), off);
-  RecordWalls(planes, {0.07}, 4);
-  EXPECT_EQ(planes.health(0).common_bias, 0.0);
-  const auto association = planes.Associate(on_wall);
-  ASSERT_TRUE(association.has_value());
-  EXPECT_EQ(association->common_variance, 0.0);
 }
 
 TEST(PlaneAssociationTest, OptionsCheck) {

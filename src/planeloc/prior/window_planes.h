@@ -20,9 +20,9 @@ std::optional<PointEstimate> VisualPointEstimate(const SparseMap& map, const Map
                                                  const PlaneAssociationOptions& options);
 
 // Associates the points of a window built by BuildLocalWindow with the plane map: every window
-// point whose visual estimate (VisualPointEstimate) passes the plane gate (and
-// PlaneAssociator::GateAllows, the crease gate, for its keypoints) gets its plane id and the
-// gate's sigma, and the planes used are added to the problem. A window with fewer than
+// point whose visual estimate (VisualPointEstimate) passes the plane gate gets its plane id and
+// the gate's sigma, and the planes used are added to the problem (fixed: WindowPlane without a
+// correction prior). A window with fewer than
 // options.min_associations associated points gets none (staged activation: plain visual BA).
 // The decision uses the points' stereo measurements, not their BA positions (hysteresis).
 // Also records the window in the planes' bias statistics (PlaneAssociator::Record,
