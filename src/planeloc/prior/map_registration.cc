@@ -9,6 +9,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "planeloc/optim/robust_gauss_newton.h"
 #include "planeloc/prior/registration_voting.h"
 #include "planeloc/util/error.h"
 
@@ -17,9 +18,6 @@ namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// A plane within this angle of horizontal is ground, within this angle of vertical a facade.
-const double kGroundCos = std::cos(15.0 * kDegree);
-const double kFacadeSin = std::sin(15.0 * kDegree);
 // Lever arm (metres) that puts rotations in metres for the reported eigenvalues.
 constexpr double kLeverArm = 10.0;
 
@@ -44,14 +42,15 @@ VehicleAxes AxesAt(const Eigen::Vector3d& forward, const Eigen::Vector3d& up) {
   return axes;
 }
 
-// Covariance from point-to-plane information, regularized by a very weak prior (100 m, 1 rad)
-// so that an unobserved direction gets a large but finite variance instead of leaking rounding
-// noise of a pseudo-inverse into the observed ones. Solved in metric units (rotation x lever).
-Matrix6d RegularizedCovariance(const Matrix6d& information) {
+// Covariance from point-to-plane information, regularized by a very weak prior (`regularizer_sigma`
+// metres, the same over the lever arm in radians) so that an unobserved direction gets a large but
+// finite variance instead of leaking rounding noise of a pseudo-inverse into the observed ones.
+// Solved in metric units (rotation x lever).
+Matrix6d RegularizedCovariance(const Matrix6d& information, double regularizer_sigma) {
   Vector6d scale;
   scale << 1, 1, 1, 1.0 / kLeverArm, 1.0 / kLeverArm, 1.0 / kLeverArm;
   Matrix6d metric = scale.asDiagonal() * information * scale.asDiagonal();
-  metric.diagonal().array() += 1.0 / (100.0 * 100.0);
+  metric.diagonal().array() += 1.0 / (regularizer_sigma * regularizer_sigma);
   const Matrix6d covariance = metric.ldlt().solve(Matrix6d::Identity());
   return scale.asDiagonal() * covariance * scale.asDiagonal();
 }
@@ -96,6 +95,39 @@ void MapRegistrationOptions::Check() const {
   positive(max_tilt_sigma_deg, "max_tilt_sigma_deg");
   positive(noise_inflation, "noise_inflation");
   positive(sigma_tilt_deg, "sigma_tilt_deg");
+  positive(vertical_bin, "vertical_bin");
+  positive(huber_sigmas, "huber_sigmas");
+  positive(prior_variance_floor, "prior_variance_floor");
+  positive(regularizer_sigma, "regularizer_sigma");
+  positive(unobserved_shift_sigma, "unobserved_shift_sigma");
+  positive(unobserved_angle_sigma, "unobserved_angle_sigma");
+  auto non_negative = [](double value, const char* name) {
+    if (!(value >= 0.0))
+      throw OptionsError(std::string("MapRegistrationOptions.") + name + " must be >= 0");
+  };
+  non_negative(search_margin, "search_margin");
+  non_negative(reach_margin, "reach_margin");
+  non_negative(vertical_search_margin, "vertical_search_margin");
+  non_negative(ground_band, "ground_band");
+  non_negative(duplicate_peak_shift, "duplicate_peak_shift");
+  non_negative(duplicate_peak_angle_deg, "duplicate_peak_angle_deg");
+  auto tilt = [](double value, const char* name) {
+    if (!(value > 0.0 && value < 90.0))
+      throw OptionsError(std::string("MapRegistrationOptions.") + name + " must be in (0, 90) deg");
+  };
+  tilt(ground_max_tilt_deg, "ground_max_tilt_deg");
+  tilt(facade_max_tilt_deg, "facade_max_tilt_deg");
+  if (association_gates.empty()) {
+    throw OptionsError("MapRegistrationOptions.association_gates must not be empty");
+  }
+  for (const double gate : association_gates) {
+    if (!(gate >= 0.0 && std::isfinite(gate))) {
+      throw OptionsError("MapRegistrationOptions.association_gates must be finite and >= 0 (m)");
+    }
+  }
+  if (peaks_per_heading < 1) {
+    throw OptionsError("MapRegistrationOptions.peaks_per_heading must be >= 1");
+  }
   if (max_headings < 1) throw OptionsError("MapRegistrationOptions.max_headings must be >= 1");
   if (max_cells < 3) throw OptionsError("MapRegistrationOptions.max_cells must be >= 3");
   if (max_points < 10) throw OptionsError("MapRegistrationOptions.max_points must be >= 10");
@@ -153,8 +185,28 @@ struct MapRegistration::Hypothesis {
   Matrix6d information = Matrix6d::Zero();  // point-to-plane only, (shift, omega) at the pivot
 };
 
+struct MapRegistration::SearchSpace {
+  Eigen::Vector3d up;         // the map's up (UpDirection of the prior's)
+  Eigen::Vector3d pivot;      // the prior's pivot c
+  double sigma_vertical = 0;  // metres
+  double sigma_heading = 0;   // radians
+  ShiftGrid grid;  // horizontal shifts: principal axes of the prior, +-(search_sigmas + margin)
+  double horizontal_reach = 0;  // metres, the larger half range of the grid
+};
+
+struct MapRegistration::PlaneSets {
+  std::vector<int> candidates, grounds, facades;  // indices into planes_
+};
+
+struct MapRegistration::PlaneMatch {
+  int plane = -1;  // index into planes_
+  double sigma = 0;
+};
+
 MapRegistration::MapRegistration(const PlaneMap& planes, const MapRegistrationOptions& options)
-    : options_(options) {
+    : options_(options),
+      ground_cos_(std::cos(options.ground_max_tilt_deg * kDegree)),
+      facade_sin_(std::sin(options.facade_max_tilt_deg * kDegree)) {
   options_.Check();
   for (const MapPlane& plane : planes.planes) {
     if (plane.area > 0.0 && plane.area < options_.min_plane_area) continue;
@@ -188,7 +240,7 @@ Eigen::Vector3d MapRegistration::UpDirection(const Eigen::Vector3d& hint) const 
         plane.plane.normal.dot(h) >= 0 ? plane.plane.normal : Eigen::Vector3d(-plane.plane.normal);
     // Area weighting through the outline's box would favour long thin planes; the ground planes
     // of a street map are all nearly parallel, so a plain mean is enough.
-    if (n.dot(h) > kGroundCos) sum += n;
+    if (n.dot(h) > ground_cos_) sum += n;
   }
   return sum.norm() > 0.5 ? sum.normalized() : h;
 }
@@ -206,45 +258,210 @@ bool MapRegistration::NearOutline(const FlatPlane& plane, const Eigen::Vector3d&
   return InsideOrNearPolygon2d(plane.ring, q, margin);
 }
 
+std::vector<RegistrationPoint> MapRegistration::Subsample(
+    const std::vector<RegistrationPoint>& all_points) const {
+  // A deterministic subsample: every k-th point.
+  std::vector<RegistrationPoint> points;
+  const std::size_t stride =
+      std::max<std::size_t>(1, (all_points.size() + options_.max_points - 1) / options_.max_points);
+  for (std::size_t i = 0; i < all_points.size(); i += stride) {
+    if (all_points[i].point_in_world.allFinite()) points.push_back(all_points[i]);
+  }
+  return points;
+}
+
+MapRegistration::SearchSpace MapRegistration::PriorSearchSpace(
+    const RegistrationPrior& prior) const {
+  SearchSpace search;
+  search.up = UpDirection(prior.up_in_world);
+  search.pivot = prior.pivot_in_world;
+  const Eigen::Vector3d& up = search.up;
+  const Eigen::Matrix3d shift_cov = prior.covariance.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d angle_cov = prior.covariance.bottomRightCorner<3, 3>();
+  search.sigma_vertical = std::sqrt(std::max(0.0, up.dot(shift_cov * up)));
+  search.sigma_heading = std::sqrt(std::max(0.0, up.dot(angle_cov * up)));
+  // Horizontal search axes: principal axes of the prior's horizontal shift covariance.
+  const Eigen::Vector3d e1 = AnyPerpendicular(up);
+  const Eigen::Vector3d e2 = up.cross(e1);
+  Eigen::Matrix<double, 3, 2> basis;
+  basis << e1, e2;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> horizontal(basis.transpose() * shift_cov *
+                                                                  basis);
+  ShiftGrid& grid = search.grid;
+  for (int k = 0; k < 2; ++k) {
+    grid.axis[k] = basis * horizontal.eigenvectors().col(k);
+    grid.half_range[k] =
+        options_.search_sigmas * std::sqrt(std::max(0.0, horizontal.eigenvalues()(k))) +
+        options_.search_margin;
+  }
+  grid.cell = std::max({options_.shift_cell, 2.0 * grid.half_range[0] / (options_.max_cells - 1),
+                        2.0 * grid.half_range[1] / (options_.max_cells - 1)});
+  for (int k = 0; k < 2; ++k) {
+    grid.cells[k] = static_cast<int>(std::ceil(2.0 * grid.half_range[k] / grid.cell)) + 1;
+  }
+  search.horizontal_reach = std::max(grid.half_range[0], grid.half_range[1]);
+  return search;
+}
+
+MapRegistration::PlaneSets MapRegistration::ReachablePlanes(
+    const std::vector<RegistrationPoint>& points, const SearchSpace& search) const {
+  Eigen::Vector3d lo = points.front().point_in_world, hi = lo;
+  double lever = 0;
+  for (const RegistrationPoint& p : points) {
+    lo = lo.cwiseMin(p.point_in_world);
+    hi = hi.cwiseMax(p.point_in_world);
+    lever = std::max(lever, (p.point_in_world - search.pivot).norm());
+  }
+  const double reach =
+      search.horizontal_reach +
+      options_.search_sigmas * (search.sigma_vertical + search.sigma_heading * lever) +
+      options_.reach_margin;
+  PlaneSets sets;
+  for (int i = 0; i < static_cast<int>(planes_.size()); ++i) {
+    const FlatPlane& plane = planes_[i];
+    if ((plane.hi.array() < lo.array() - reach).any() ||
+        (plane.lo.array() > hi.array() + reach).any()) {
+      continue;
+    }
+    sets.candidates.push_back(i);
+    const double vertical = std::abs(plane.plane.normal.dot(search.up));
+    if (vertical > ground_cos_) sets.grounds.push_back(i);
+    if (vertical < facade_sin_) sets.facades.push_back(i);
+  }
+  return sets;
+}
+
+double MapRegistration::VoteHeight(const std::vector<RegistrationPoint>& points,
+                                   const SearchSpace& search, const std::vector<int>& grounds,
+                                   std::vector<bool>& near_ground) const {
+  const double vertical_range =
+      options_.search_sigmas * search.sigma_vertical + options_.vertical_search_margin;
+  const double bin = options_.vertical_bin;
+  std::vector<double> ground_votes;
+  near_ground.assign(points.size(), false);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (const int g : grounds) {
+      const FlatPlane& plane = planes_[g];
+      const Eigen::Vector3d& p = points[i].point_in_world;
+      if (!NearOutline(plane, p, search.horizontal_reach)) continue;
+      const double shift = -plane.plane.SignedDistance(p) / plane.plane.normal.dot(search.up);
+      if (std::abs(shift) > vertical_range + 0.5 * bin) continue;
+      ground_votes.push_back(shift);
+      near_ground[i] = true;
+    }
+  }
+  return VoteVerticalShift(ground_votes, vertical_range, bin);
+}
+
+std::vector<Eigen::Vector3d> MapRegistration::FacadeVoters(
+    const std::vector<RegistrationPoint>& points, const SearchSpace& search,
+    const std::vector<int>& grounds, const std::vector<bool>& near_ground,
+    double vertical_shift) const {
+  // Points on the ground (after the vertical shift) vote for no facade.
+  std::vector<Eigen::Vector3d> voters;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d p = points[i].point_in_world + vertical_shift * search.up;
+    bool on_ground = false;
+    for (const int g : grounds) {
+      if (near_ground[i] && std::abs(planes_[g].plane.SignedDistance(p)) < options_.ground_band) {
+        on_ground = true;
+      }
+    }
+    if (!on_ground) voters.push_back(p);
+  }
+  return voters;
+}
+
+std::vector<MapRegistration::Hypothesis> MapRegistration::VoteHeadingAndShiftHypotheses(
+    const std::vector<Eigen::Vector3d>& facade_voters, const SearchSpace& search,
+    const std::vector<int>& facades, double vertical_shift) const {
+  const double sigma_heading = search.sigma_heading;
+  const int num_headings =
+      sigma_heading > 0 ? std::max(1, std::min(options_.max_headings,
+                                               static_cast<int>(std::ceil(
+                                                   2.0 * options_.search_sigmas * sigma_heading /
+                                                   (options_.heading_step_deg * kDegree))) +
+                                                   1))
+                        : 1;
+  std::vector<double> headings;
+  for (int k = 0; k < num_headings; ++k) {
+    headings.push_back(num_headings == 1 ? 0.0
+                                         : -options_.search_sigmas * sigma_heading +
+                                               2.0 * options_.search_sigmas * sigma_heading * k /
+                                                   (num_headings - 1));
+  }
+  std::vector<HoughFacade> hough_facades;
+  for (const int f : facades) {
+    hough_facades.push_back(MakeHoughFacade(planes_[f].plane, planes_[f].polygon, search.up));
+  }
+  HoughOptions hough_options;
+  hough_options.outline_margin = options_.outline_margin;
+  hough_options.peaks_per_heading = options_.peaks_per_heading;
+  const std::vector<HeadingShiftPeak> peaks = VoteHeadingAndShift(
+      facade_voters, search.pivot, search.up, hough_facades, headings, search.grid, hough_options);
+
+  // Distinct peaks, plus the prior's mean (the answer when no facade votes).
+  std::vector<Hypothesis> hypotheses;
+  auto add_hypothesis = [&](double heading, const Eigen::Vector3d& shift, double votes) {
+    for (const Hypothesis& h : hypotheses) {
+      const double angle = std::abs(Eigen::AngleAxisd(h.rotation).angle() - std::abs(heading));
+      if ((h.shift - shift).norm() < options_.duplicate_peak_shift &&
+          angle < options_.duplicate_peak_angle_deg * kDegree) {
+        return;
+      }
+    }
+    Hypothesis h;
+    h.rotation = Eigen::AngleAxisd(heading, search.up).toRotationMatrix();
+    h.shift = shift;
+    h.votes = votes;
+    hypotheses.push_back(h);
+  };
+  for (const HeadingShiftPeak& peak : peaks) {
+    if (static_cast<int>(hypotheses.size()) >= options_.num_hypotheses) break;
+    add_hypothesis(peak.heading, peak.shift_xy + vertical_shift * search.up, peak.votes);
+  }
+  add_hypothesis(0.0, vertical_shift * search.up, 0.0);
+  return hypotheses;
+}
+
+void MapRegistration::AssociatePlanes(const std::vector<RegistrationPoint>& points,
+                                      const Eigen::Vector3d& pivot,
+                                      const std::vector<int>& candidates,
+                                      const Hypothesis& hypothesis, double gate,
+                                      std::vector<PlaneMatch>& matches) const {
+  const Eigen::Vector3d& c = pivot;
+  const double floor2 = options_.min_point_sigma * options_.min_point_sigma;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d p =
+        hypothesis.rotation * (points[i].point_in_world - c) + c + hypothesis.shift;
+    matches[i] = PlaneMatch{};
+    double best = kInf;
+    for (const int index : candidates) {
+      const FlatPlane& plane = planes_[index];
+      const double sigma = std::sqrt(std::max(floor2, points[i].sigma * points[i].sigma) +
+                                     plane.sigma * plane.sigma);
+      const double distance = std::abs(plane.plane.SignedDistance(p));
+      if (distance > gate + options_.inlier_sigmas * sigma || distance >= best) continue;
+      if (!NearOutline(plane, p, options_.outline_margin)) continue;
+      best = distance;
+      matches[i] = PlaneMatch{index, sigma};
+    }
+  }
+}
+
 void MapRegistration::Refine(const std::vector<RegistrationPoint>& points,
                              const RegistrationPrior& prior, const std::vector<int>& candidates,
                              Hypothesis& hypothesis) const {
   const Eigen::Vector3d& c = prior.pivot_in_world;
   // Prior information; a zero sigma (exact DoF) becomes a very stiff one.
   Matrix6d prior_covariance = prior.covariance;
-  prior_covariance.diagonal().array() += 1e-10;
+  prior_covariance.diagonal().array() += options_.prior_variance_floor;
   const Matrix6d prior_information = prior_covariance.inverse();
 
-  struct Match {
-    int plane = -1;  // index into planes_
-    double sigma = 0;
-  };
-  std::vector<Match> matches(points.size());
-  const double floor2 = options_.min_point_sigma * options_.min_point_sigma;
-  auto associate = [&](double gate) {
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const Eigen::Vector3d p =
-          hypothesis.rotation * (points[i].point_in_world - c) + c + hypothesis.shift;
-      matches[i] = Match{};
-      double best = kInf;
-      for (const int index : candidates) {
-        const FlatPlane& plane = planes_[index];
-        const double sigma = std::sqrt(std::max(floor2, points[i].sigma * points[i].sigma) +
-                                       plane.sigma * plane.sigma);
-        const double distance = std::abs(plane.plane.SignedDistance(p));
-        if (distance > gate + options_.inlier_sigmas * sigma || distance >= best) continue;
-        if (!NearOutline(plane, p, options_.outline_margin)) continue;
-        best = distance;
-        matches[i] = Match{index, sigma};
-      }
-    }
-  };
-
-  const double gates[] = {1.0, 1.0, 1.0, 0.5, 0.5, 0.5, 0.25, 0.25, 0.25, 0.0, 0.0, 0.0};
-  for (const double gate : gates) {
-    associate(gate);
-    Matrix6d h = Matrix6d::Zero();
-    Vector6d b = Vector6d::Zero();
+  std::vector<PlaneMatch> matches(points.size());
+  const auto linearize = [&](int iteration, HuberNormalEquations<6>& equations) {
+    AssociatePlanes(points, c, candidates, hypothesis, options_.association_gates[iteration],
+                    matches);
     for (std::size_t i = 0; i < points.size(); ++i) {
       if (matches[i].plane < 0) continue;
       const Plane& plane = planes_[matches[i].plane].plane;
@@ -254,22 +471,29 @@ void MapRegistration::Refine(const std::vector<RegistrationPoint>& points,
       j.head<3>() = plane.normal.transpose();
       j.tail<3>() = -plane.normal.transpose() * Hat(q);
       j /= matches[i].sigma;
-      constexpr double kHuber = 2.0;
-      const double w = std::abs(r) <= kHuber ? 1.0 : kHuber / std::abs(r);
-      h += w * j.transpose() * j;
-      b += w * j.transpose() * r;
+      equations.Add(r, j);
     }
     Vector6d xi;
     xi.head<3>() = hypothesis.shift;
     xi.tail<3>() = LogSO3(hypothesis.rotation);
-    const Vector6d step = -(h + prior_information).ldlt().solve(b + prior_information * xi);
-    if (!step.allFinite()) break;
+    return xi;
+  };
+  const auto apply = [&](const Vector6d& step) {
     hypothesis.shift += step.head<3>();
     hypothesis.rotation = ExpSO3(step.tail<3>()) * hypothesis.rotation;
-  }
+  };
+  RobustGaussNewton<6>(static_cast<int>(options_.association_gates.size()), options_.huber_sigmas,
+                       prior_information, linearize, apply);
 
   // Score with the final association.
-  associate(0.0);
+  AssociatePlanes(points, c, candidates, hypothesis, 0.0, matches);
+  Score(points, c, matches, hypothesis);
+}
+
+void MapRegistration::Score(const std::vector<RegistrationPoint>& points,
+                            const Eigen::Vector3d& pivot, const std::vector<PlaneMatch>& matches,
+                            Hypothesis& hypothesis) const {
+  const Eigen::Vector3d& c = pivot;
   hypothesis.inliers = 0;
   hypothesis.information.setZero();
   double sum2 = 0, whitened2 = 0;
@@ -296,181 +520,30 @@ void MapRegistration::Refine(const std::vector<RegistrationPoint>& points,
       hypothesis.inliers > 0 ? std::sqrt(whitened2 / hypothesis.inliers) : kInf;
 }
 
-RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint>& all_points,
-                                             const RegistrationPrior& prior,
-                                             const Rigid3d& world_from_camera) const {
-  RegistrationResult result;
-  for (double& sigma : result.dof_sigma) sigma = kInf;
-  // A deterministic subsample: every k-th point.
-  std::vector<RegistrationPoint> points;
-  const std::size_t stride =
-      std::max<std::size_t>(1, (all_points.size() + options_.max_points - 1) / options_.max_points);
-  for (std::size_t i = 0; i < all_points.size(); i += stride) {
-    if (all_points[i].point_in_world.allFinite()) points.push_back(all_points[i]);
-  }
-  result.points = static_cast<int>(points.size());
-  if (result.points < options_.min_points) {
-    result.reason = "too little structure (" + std::to_string(result.points) + " points, need " +
-                    std::to_string(options_.min_points) + ")";
-    return result;
-  }
-  if (planes_.empty()) {
-    result.reason = "the plane map has no usable plane";
-    return result;
-  }
-
-  const Eigen::Vector3d up = UpDirection(prior.up_in_world);
-  const Eigen::Vector3d& c = prior.pivot_in_world;
-  const Eigen::Matrix3d shift_cov = prior.covariance.topLeftCorner<3, 3>();
-  const Eigen::Matrix3d angle_cov = prior.covariance.bottomRightCorner<3, 3>();
-  const double sigma_vertical = std::sqrt(std::max(0.0, up.dot(shift_cov * up)));
-  const double sigma_heading = std::sqrt(std::max(0.0, up.dot(angle_cov * up)));
-  // Horizontal search axes: principal axes of the prior's horizontal shift covariance.
-  const Eigen::Vector3d e1 = AnyPerpendicular(up);
-  const Eigen::Vector3d e2 = up.cross(e1);
-  Eigen::Matrix<double, 3, 2> basis;
-  basis << e1, e2;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> horizontal(basis.transpose() * shift_cov *
-                                                                  basis);
-  const Eigen::Vector3d axis[2] = {basis * horizontal.eigenvectors().col(0),
-                                   basis * horizontal.eigenvectors().col(1)};
-  const double half_range[2] = {
-      options_.search_sigmas * std::sqrt(std::max(0.0, horizontal.eigenvalues()(0))) + 1.0,
-      options_.search_sigmas * std::sqrt(std::max(0.0, horizontal.eigenvalues()(1))) + 1.0};
-  const double cell = std::max({options_.shift_cell, 2.0 * half_range[0] / (options_.max_cells - 1),
-                                2.0 * half_range[1] / (options_.max_cells - 1)});
-  const int cells[2] = {static_cast<int>(std::ceil(2.0 * half_range[0] / cell)) + 1,
-                        static_cast<int>(std::ceil(2.0 * half_range[1] / cell)) + 1};
-
-  // Planes the structure can reach under the prior.
-  Eigen::Vector3d lo = points.front().point_in_world, hi = lo;
-  double lever = 0;
-  for (const RegistrationPoint& p : points) {
-    lo = lo.cwiseMin(p.point_in_world);
-    hi = hi.cwiseMax(p.point_in_world);
-    lever = std::max(lever, (p.point_in_world - c).norm());
-  }
-  const double reach = std::max(half_range[0], half_range[1]) +
-                       options_.search_sigmas * (sigma_vertical + sigma_heading * lever) + 2.0;
-  std::vector<int> candidates, grounds, facades;
-  for (int i = 0; i < static_cast<int>(planes_.size()); ++i) {
-    const FlatPlane& plane = planes_[i];
-    if ((plane.hi.array() < lo.array() - reach).any() ||
-        (plane.lo.array() > hi.array() + reach).any()) {
-      continue;
-    }
-    candidates.push_back(i);
-    const double vertical = std::abs(plane.plane.normal.dot(up));
-    if (vertical > kGroundCos) grounds.push_back(i);
-    if (vertical < kFacadeSin) facades.push_back(i);
-  }
-  if (candidates.empty()) {
-    result.reason = "no plane of the map within reach of the structure";
-    return result;
-  }
-
-  // 1. Vertical shift: points over a ground plane vote (5 cm bins).
-  const double vertical_range = options_.search_sigmas * sigma_vertical + 0.3;
-  constexpr double kBin = 0.05;
-  const double horizontal_reach = std::max(half_range[0], half_range[1]);
-  std::vector<double> ground_votes;
-  std::vector<bool> near_ground(points.size(), false);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    for (const int g : grounds) {
-      const FlatPlane& plane = planes_[g];
-      const Eigen::Vector3d& p = points[i].point_in_world;
-      if (!NearOutline(plane, p, horizontal_reach)) continue;
-      const double shift = -plane.plane.SignedDistance(p) / plane.plane.normal.dot(up);
-      if (std::abs(shift) > vertical_range + 0.5 * kBin) continue;
-      ground_votes.push_back(shift);
-      near_ground[i] = true;
-    }
-  }
-  const double vertical_shift = VoteVerticalShift(ground_votes, vertical_range, kBin);
-  // Points within 0.3 m of the ground (after the vertical shift) vote for no facade.
-  std::vector<Eigen::Vector3d> facade_voters;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d p = points[i].point_in_world + vertical_shift * up;
-    bool on_ground = false;
-    for (const int g : grounds) {
-      if (near_ground[i] && std::abs(planes_[g].plane.SignedDistance(p)) < 0.3) on_ground = true;
-    }
-    if (!on_ground) facade_voters.push_back(p);
-  }
-
-  // 2. Heading x horizontal shift: Hough voting over facades.
-  const int num_headings =
-      sigma_heading > 0 ? std::max(1, std::min(options_.max_headings,
-                                               static_cast<int>(std::ceil(
-                                                   2.0 * options_.search_sigmas * sigma_heading /
-                                                   (options_.heading_step_deg * kDegree))) +
-                                                   1))
-                        : 1;
-  std::vector<double> headings;
-  for (int k = 0; k < num_headings; ++k) {
-    headings.push_back(num_headings == 1 ? 0.0
-                                         : -options_.search_sigmas * sigma_heading +
-                                               2.0 * options_.search_sigmas * sigma_heading * k /
-                                                   (num_headings - 1));
-  }
-  std::vector<HoughFacade> hough_facades;
-  for (const int f : facades) {
-    hough_facades.push_back(MakeHoughFacade(planes_[f].plane, planes_[f].polygon, up));
-  }
-  ShiftGrid grid;
-  grid.axis[0] = axis[0];
-  grid.axis[1] = axis[1];
-  grid.half_range[0] = half_range[0];
-  grid.half_range[1] = half_range[1];
-  grid.cell = cell;
-  grid.cells[0] = cells[0];
-  grid.cells[1] = cells[1];
-  HoughOptions hough_options;
-  hough_options.outline_margin = options_.outline_margin;
-  const std::vector<HeadingShiftPeak> peaks =
-      VoteHeadingAndShift(facade_voters, c, up, hough_facades, headings, grid, hough_options);
-
-  // Distinct peaks, plus the prior's mean (the answer when no facade votes).
-  std::vector<Hypothesis> hypotheses;
-  auto add_hypothesis = [&](double heading, const Eigen::Vector3d& shift, double votes) {
-    for (const Hypothesis& h : hypotheses) {
-      const double angle = std::abs(Eigen::AngleAxisd(h.rotation).angle() - std::abs(heading));
-      if ((h.shift - shift).norm() < 1.0 && angle < 2.0 * kDegree) return;
-    }
-    Hypothesis h;
-    h.rotation = Eigen::AngleAxisd(heading, up).toRotationMatrix();
-    h.shift = shift;
-    h.votes = votes;
-    hypotheses.push_back(h);
-  };
-  for (const HeadingShiftPeak& peak : peaks) {
-    if (static_cast<int>(hypotheses.size()) >= options_.num_hypotheses) break;
-    add_hypothesis(peak.heading, peak.shift_xy + vertical_shift * up, peak.votes);
-  }
-  add_hypothesis(0.0, vertical_shift * up, 0.0);
-
-  // 3. Refine and score.
+void MapRegistration::RefineAndRank(const std::vector<RegistrationPoint>& points,
+                                    const RegistrationPrior& prior,
+                                    const std::vector<int>& candidates,
+                                    std::vector<Hypothesis>& hypotheses) const {
   for (Hypothesis& h : hypotheses) Refine(points, prior, candidates, h);
-  result.hypotheses = static_cast<int>(hypotheses.size());
   std::stable_sort(hypotheses.begin(), hypotheses.end(),
                    [](const Hypothesis& a, const Hypothesis& b) { return a.cost < b.cost; });
-  const Hypothesis& best = hypotheses.front();
-  result.candidate_map_from_world = Rigid3d(best.rotation, c + best.shift - best.rotation * c);
-  result.inliers = best.inliers;
-  result.inlier_ratio = static_cast<double>(best.inliers) / result.points;
-  result.rms = best.rms;
-  result.whitened_rms = best.whitened_rms;
+}
 
-  // Conditioning at the current camera.
+std::array<Eigen::Vector3d, kNumDofs> MapRegistration::ConditionAtCamera(
+    const Hypothesis& best, const SearchSpace& search, const Rigid3d& world_from_camera,
+    RegistrationResult& result) const {
+  const Eigen::Vector3d& c = search.pivot;
   // Conditioning at the current camera, in the map frame of the best hypothesis: a change
   // (d_shift, d_omega) moves the camera by d_shift - [R (camera - c)]x d_omega.
   const Eigen::Vector3d camera = world_from_camera.translation;
-  const VehicleAxes axes = AxesAt(
-      best.rotation * (world_from_camera.rotation * Eigen::Vector3d::UnitZ()), best.rotation * up);
+  const VehicleAxes axes =
+      AxesAt(best.rotation * (world_from_camera.rotation * Eigen::Vector3d::UnitZ()),
+             best.rotation * search.up);
   Matrix6d to_camera = Matrix6d::Identity();
   to_camera.topRightCorner<3, 3>() = -Hat(best.rotation * (camera - c));
-  const Matrix6d covariance =
-      to_camera * RegularizedCovariance(best.information) * to_camera.transpose();
+  const Matrix6d covariance = to_camera *
+                              RegularizedCovariance(best.information, options_.regularizer_sigma) *
+                              to_camera.transpose();
   // The same change of pivot for the information (x_camera = to_camera x_pivot), then the
   // vehicle axes; and the best hypothesis as a camera shift and a rotation in those axes.
   Matrix6d from_camera = Matrix6d::Identity();
@@ -488,14 +561,16 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
       result.vehicle_axes * (best.rotation * (camera - c) + c + best.shift - camera);
   result.correction_at_camera.tail<3>() = result.vehicle_axes * LogSO3(best.rotation);
   result.camera_position_covariance = covariance.topLeftCorner<3, 3>();
-  const Eigen::Vector3d named[kNumDofs] = {axes.along, axes.lateral, axes.up,
-                                           axes.along, axes.lateral, axes.up};
+  const std::array<Eigen::Vector3d, kNumDofs> named = {axes.along, axes.lateral, axes.up,
+                                                       axes.along, axes.lateral, axes.up};
   for (int dof = 0; dof < kNumDofs; ++dof) {
     const Eigen::Matrix3d block =
         dof < 3 ? covariance.topLeftCorner<3, 3>() : covariance.bottomRightCorner<3, 3>();
     const double sigma = std::sqrt(std::max(0.0, named[dof].dot(block * named[dof])));
-    // Above 10 m (or 1 rad) the regularization, not the data, sets the value: unobserved.
-    result.dof_sigma[dof] = sigma > (dof < 3 ? 10.0 : 0.5) ? kInf : sigma;
+    result.dof_sigma[dof] =
+        sigma > (dof < 3 ? options_.unobserved_shift_sigma : options_.unobserved_angle_sigma)
+            ? kInf
+            : sigma;
     const double limit = dof < 3       ? options_.max_dof_sigma
                          : dof == kYaw ? options_.max_dof_sigma_deg * kDegree
                                        : options_.max_tilt_sigma_deg * kDegree;
@@ -506,19 +581,27 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
   metric.topRightCorner<3, 3>() /= kLeverArm;
   metric.bottomLeftCorner<3, 3>() /= kLeverArm;
   result.information_eigenvalues = Eigen::SelfAdjointEigenSolver<Matrix6d>(metric).eigenvalues();
+  return named;
+}
 
-  // Margin over the best hypothesis that differs in a constrained DoF.
+double MapRegistration::MarginOverDistinct(const std::vector<Hypothesis>& ranked,
+                                           const Eigen::Vector3d& pivot,
+                                           const Eigen::Vector3d& camera,
+                                           const std::array<Eigen::Vector3d, kNumDofs>& named,
+                                           const std::array<bool, kNumDofs>& constrained) const {
+  const Eigen::Vector3d& c = pivot;
+  const Hypothesis& best = ranked.front();
   const auto apply = [&](const Hypothesis& h, const Eigen::Vector3d& x) {
     return Eigen::Vector3d(h.rotation * (x - c) + c + h.shift);
   };
   double second = kInf;
-  for (std::size_t k = 1; k < hypotheses.size(); ++k) {
-    const Hypothesis& other = hypotheses[k];
+  for (std::size_t k = 1; k < ranked.size(); ++k) {
+    const Hypothesis& other = ranked[k];
     const Eigen::Vector3d dt = apply(other, camera) - apply(best, camera);
     const Eigen::Vector3d dr = LogSO3(other.rotation * best.rotation.transpose());
     bool distinct = false;
     for (int dof = 0; dof < kNumDofs; ++dof) {
-      if (!result.constrained[dof]) continue;
+      if (!constrained[dof]) continue;
       const double difference = std::abs((dof < 3 ? dt : dr).dot(named[dof]));
       distinct |= dof < 3 ? difference > options_.distinct_shift
                           : difference > options_.distinct_angle_deg * kDegree;
@@ -528,8 +611,12 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
   // The cost difference to the best distinct hypothesis, deflated like the information: a
   // chi2-like log-likelihood ratio that ground points (which fit every hypothesis of the right
   // height) do not dilute.
-  result.margin = (second - best.cost) / (options_.noise_inflation * options_.noise_inflation);
+  return (second - best.cost) / (options_.noise_inflation * options_.noise_inflation);
+}
 
+void MapRegistration::Verdict(const Hypothesis& best, const Eigen::Vector3d& pivot,
+                              RegistrationResult& result) const {
+  const Eigen::Vector3d& c = pivot;
   const bool all_but_along = result.constrained[kLateral] && result.constrained[kVertical] &&
                              result.constrained[kRoll] && result.constrained[kPitch] &&
                              result.constrained[kYaw];
@@ -550,6 +637,56 @@ RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint
     if (result.lock == MapLock::kPartial) result.reason = "along-track not observed";
     result.map_from_world = Rigid3d(best.rotation, c + best.shift - best.rotation * c);
   }
+}
+
+RegistrationResult MapRegistration::Register(const std::vector<RegistrationPoint>& all_points,
+                                             const RegistrationPrior& prior,
+                                             const Rigid3d& world_from_camera) const {
+  RegistrationResult result;
+  for (double& sigma : result.dof_sigma) sigma = kInf;
+  const std::vector<RegistrationPoint> points = Subsample(all_points);
+  result.points = static_cast<int>(points.size());
+  if (result.points < options_.min_points) {
+    result.reason = "too little structure (" + std::to_string(result.points) + " points, need " +
+                    std::to_string(options_.min_points) + ")";
+    return result;
+  }
+  if (planes_.empty()) {
+    result.reason = "the plane map has no usable plane";
+    return result;
+  }
+  const SearchSpace search = PriorSearchSpace(prior);
+  const PlaneSets planes = ReachablePlanes(points, search);
+  if (planes.candidates.empty()) {
+    result.reason = "no plane of the map within reach of the structure";
+    return result;
+  }
+
+  // Voting (docs/map-registration.md, steps 1 and 2): height, then heading x horizontal shift.
+  std::vector<bool> near_ground;
+  const double vertical_shift = VoteHeight(points, search, planes.grounds, near_ground);
+  const std::vector<Eigen::Vector3d> facade_voters =
+      FacadeVoters(points, search, planes.grounds, near_ground, vertical_shift);
+  std::vector<Hypothesis> hypotheses =
+      VoteHeadingAndShiftHypotheses(facade_voters, search, planes.facades, vertical_shift);
+
+  // Refinement and scoring (steps 3 and 4); the best first.
+  RefineAndRank(points, prior, planes.candidates, hypotheses);
+  result.hypotheses = static_cast<int>(hypotheses.size());
+  const Hypothesis& best = hypotheses.front();
+  const Eigen::Vector3d& c = search.pivot;
+  result.candidate_map_from_world = Rigid3d(best.rotation, c + best.shift - best.rotation * c);
+  result.inliers = best.inliers;
+  result.inlier_ratio = static_cast<double>(best.inliers) / result.points;
+  result.rms = best.rms;
+  result.whitened_rms = best.whitened_rms;
+
+  // Conditioning, margin and the verdict (acceptance).
+  const std::array<Eigen::Vector3d, kNumDofs> named =
+      ConditionAtCamera(best, search, world_from_camera, result);
+  result.margin =
+      MarginOverDistinct(hypotheses, c, world_from_camera.translation, named, result.constrained);
+  Verdict(best, c, result);
   return result;
 }
 

@@ -51,23 +51,56 @@ const char* MapLockName(MapLock lock);
 struct MapRegistrationOptions {
   // Search range of the heading / shift grids, in prior standard deviations.
   double search_sigmas = 3.0;
+  // Metres added to each half range of the horizontal shift grid (a prior of zero horizontal
+  // sigma still searches +-1 m).
+  double search_margin = 1.0;
+  // Metres added to how far (prior shift + heading x lever arm) the structure can reach: planes
+  // whose outline box is farther from the structure's box are not candidates.
+  double reach_margin = 2.0;
+  // A plane within this angle (degrees) of horizontal is ground; within this angle of vertical,
+  // a facade (a Hough voter). Also what UpDirection averages.
+  double ground_max_tilt_deg = 15.0;
+  double facade_max_tilt_deg = 15.0;
+  // Height vote (step 1): metres added to search_sigmas x the vertical sigma, and the histogram's
+  // bin (metres).
+  double vertical_search_margin = 0.3;
+  double vertical_bin = 0.05;
+  // Points within this distance (metres) of a ground plane after the height vote vote for no
+  // facade.
+  double ground_band = 0.3;
   // Heading grid step (degrees); grown so that the grid has at most max_headings entries.
   double heading_step_deg = 1.0;
   int max_headings = 91;
   // Hough cell of the horizontal shift (metres); grown so that an axis has at most max_cells.
   double shift_cell = 0.25;
   int max_cells = 200;
-  // Structure points used (a deterministic subsample of the given ones).
+  // Local maxima of the Hough accumulator kept per heading.
+  int peaks_per_heading = 3;
+  // Structure points used (a deterministic subsample of the given ones); the best hypothesis
+  // also needs min_points / 2 inliers.
   int max_points = 1500;
   int min_points = 150;
   // Hough peaks refined by Gauss-Newton.
   int num_hypotheses = 8;
+  // Peaks closer than this to a kept one (metres of shift and degrees of heading, both) are
+  // duplicates and not refined.
+  double duplicate_peak_shift = 1.0;
+  double duplicate_peak_angle_deg = 2.0;
   // Planes smaller than this (m^2) are not used.
   double min_plane_area = 8.0;
   // A point counts for a plane when its projection lies in the outline grown by this (metres).
   double outline_margin = 0.5;
   // Standard deviation of a plane of the map (metres), added to its fitted rms.
   double map_sigma = 0.05;
+  // Refinement (step 3): one Gauss-Newton iteration per entry, each associating the points with
+  // planes within this gate (metres) + inlier_sigmas sigma; a shrinking gate, 0 at the end.
+  std::vector<double> association_gates = {1.0,  1.0,  1.0,  0.5, 0.5, 0.5,
+                                           0.25, 0.25, 0.25, 0.0, 0.0, 0.0};
+  // Huber threshold of the refinement, in sigmas of the point-to-plane distance.
+  double huber_sigmas = 2.0;
+  // Added to the prior covariance's diagonal (m^2 and rad^2) before inverting it, so that an
+  // exact (zero-sigma) DoF becomes a very stiff one instead of a singular one.
+  double prior_variance_floor = 1e-10;
   // Consistency: a point is an inlier within this many sigma of its plane (and its sigma is
   // floored at min_point_sigma metres).
   double inlier_sigmas = 3.0;
@@ -87,6 +120,13 @@ struct MapRegistrationOptions {
   double max_dof_sigma_deg = 0.5;   // degrees, heading
   double max_tilt_sigma_deg = 0.5;  // degrees, roll and pitch (10 m away: 9 cm)
   double noise_inflation = 3.0;
+  // The covariance is regularized by a prior of this sigma (metres; rotations x 10 m) so that an
+  // unobserved direction gets a large, finite variance (docs/map-registration.md).
+  double regularizer_sigma = 100.0;
+  // Above these marginal sigmas (metres; radians for roll, pitch and yaw) the regularizer, not
+  // the data, sets the value: the DoF is reported unobserved (an infinite sigma).
+  double unobserved_shift_sigma = 10.0;
+  double unobserved_angle_sigma = 0.5;
   // Prior on roll and pitch (degrees): the start pose's tilt, refined by the road.
   double sigma_tilt_deg = 1.0;
 
@@ -177,12 +217,66 @@ class MapRegistration {
     bool ground = false;
   };
   struct Hypothesis;
+  // The prior as a search space: up, pivot, the vertical and heading sigmas, the shift grid.
+  struct SearchSpace;
+  // The planes the structure can reach under the prior, and which of them are ground / facades.
+  struct PlaneSets;
+  // A point's plane (index into planes_, -1: none) and the sigma of its distance to it.
+  struct PlaneMatch;
 
   bool NearOutline(const FlatPlane& plane, const Eigen::Vector3d& point, double margin) const;
+
+  // The steps of Register (docs/map-registration.md), in order.
+  std::vector<RegistrationPoint> Subsample(const std::vector<RegistrationPoint>& all_points) const;
+  SearchSpace PriorSearchSpace(const RegistrationPrior& prior) const;
+  PlaneSets ReachablePlanes(const std::vector<RegistrationPoint>& points,
+                            const SearchSpace& search) const;
+  // Step 1: the vertical shift voted by the points over a ground plane (`near_ground`: which).
+  double VoteHeight(const std::vector<RegistrationPoint>& points, const SearchSpace& search,
+                    const std::vector<int>& grounds, std::vector<bool>& near_ground) const;
+  // The points, shifted vertically, that are not on the ground: step 2's voters.
+  std::vector<Eigen::Vector3d> FacadeVoters(const std::vector<RegistrationPoint>& points,
+                                            const SearchSpace& search,
+                                            const std::vector<int>& grounds,
+                                            const std::vector<bool>& near_ground,
+                                            double vertical_shift) const;
+  // Step 2: the distinct Hough peaks over heading x horizontal shift, plus the prior's mean.
+  std::vector<Hypothesis> VoteHeadingAndShiftHypotheses(
+      const std::vector<Eigen::Vector3d>& facade_voters, const SearchSpace& search,
+      const std::vector<int>& facades, double vertical_shift) const;
+  // Steps 3 and 4: refines and scores every hypothesis, then sorts them by cost (stable).
+  void RefineAndRank(const std::vector<RegistrationPoint>& points, const RegistrationPrior& prior,
+                     const std::vector<int>& candidates, std::vector<Hypothesis>& hypotheses) const;
+  // Robust point-to-plane Gauss-Newton (optim/robust_gauss_newton.h) with the prior, then Score.
   void Refine(const std::vector<RegistrationPoint>& points, const RegistrationPrior& prior,
               const std::vector<int>& candidates, Hypothesis& hypothesis) const;
+  // Each point's nearest candidate plane within `gate` + inlier_sigmas sigma under `hypothesis`.
+  void AssociatePlanes(const std::vector<RegistrationPoint>& points, const Eigen::Vector3d& pivot,
+                       const std::vector<int>& candidates, const Hypothesis& hypothesis,
+                       double gate, std::vector<PlaneMatch>& matches) const;
+  // The truncated chi2 cost, inliers, rms and point-to-plane information of `hypothesis`.
+  void Score(const std::vector<RegistrationPoint>& points, const Eigen::Vector3d& pivot,
+             const std::vector<PlaneMatch>& matches, Hypothesis& hypothesis) const;
+  // Conditioning of the best hypothesis at the camera: fills the result's vehicle axes,
+  // correction and information at the camera, DoF sigmas, constrained DoF and eigenvalues.
+  // Returns each named DoF's direction (map axes).
+  std::array<Eigen::Vector3d, kNumDofs> ConditionAtCamera(const Hypothesis& best,
+                                                          const SearchSpace& search,
+                                                          const Rigid3d& world_from_camera,
+                                                          RegistrationResult& result) const;
+  // The cost margin of the best (ranked.front()) over the best hypothesis that differs from it
+  // in a constrained DoF at the camera, over noise_inflation^2; +inf without one.
+  double MarginOverDistinct(const std::vector<Hypothesis>& ranked, const Eigen::Vector3d& pivot,
+                            const Eigen::Vector3d& camera,
+                            const std::array<Eigen::Vector3d, kNumDofs>& named,
+                            const std::array<bool, kNumDofs>& constrained) const;
+  // Acceptance: consistency, margin and conditioning decide the lock and the reason.
+  void Verdict(const Hypothesis& best, const Eigen::Vector3d& pivot,
+               RegistrationResult& result) const;
 
   MapRegistrationOptions options_;
+  double ground_cos_;  // cos(ground_max_tilt_deg): |n . up| above it is ground
+  double facade_sin_;  // sin(facade_max_tilt_deg): |n . up| below it is a facade
   std::vector<FlatPlane> planes_;
 };
 
