@@ -229,12 +229,15 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
   return 0;
 }
 
-CommandRunner SetupMap(CLI::App& app) {
-  auto* map = app.add_subcommand("map", "LiDAR map: build it from scans, extract its planes");
-  map->require_subcommand(1);
+// A subcommand of `map` and what runs it when it was chosen.
+struct MapSubcommand {
+  CLI::App* command = nullptr;
+  CommandRunner run;
+};
 
+MapSubcommand AddBuildCommand(CLI::App& map) {
   auto build_args = std::make_shared<BuildArgs>();
-  auto* build = map->add_subcommand("build", "Accumulate a KITTI sequence's Velodyne scans");
+  auto* build = map.add_subcommand("build", "Accumulate a KITTI sequence's Velodyne scans");
   build->add_option("--sequence", build_args->sequence, "KITTI sequence folder (odometry or raw)")
       ->required();
   build->add_option("--poses", build_args->poses, "KITTI pose file (world_from_cam per frame)")
@@ -252,9 +255,12 @@ CommandRunner SetupMap(CLI::App& app) {
   build->add_option("--voxel", build_args->options.voxel_size, "Voxel size, metres (0 = none)")
       ->capture_default_str();
   AddScanOptions(build, build_args->options);
+  return {build, [build_args] { return RunBuild(*build_args); }};
+}
 
+MapSubcommand AddRefineCommand(CLI::App& map) {
   auto refine_args = std::make_shared<RefineArgs>();
-  auto* refine = map->add_subcommand(
+  auto* refine = map.add_subcommand(
       "refine-poses",
       "Refine noisy map poses (GNSS/INS) by registering each scan to its predecessors (ICP) in a "
       "pose graph with the given poses as priors; writes KITTI poses for `map build`");
@@ -272,9 +278,12 @@ CommandRunner SetupMap(CLI::App& app) {
       ->add_option("--icp-voxel", refine_args->options.voxel_size,
                    "Scans downsampled to this voxel for ICP, metres")
       ->capture_default_str();
+  return {refine, [refine_args] { return RunRefine(*refine_args); }};
+}
 
+MapSubcommand AddPlanesCommand(CLI::App& map) {
   auto planes_args = std::make_shared<PlanesArgs>();
-  auto* planes = map->add_subcommand("planes", "Tensor voting and plane extraction -> planes.json");
+  auto* planes = map.add_subcommand("planes", "Tensor voting and plane extraction -> planes.json");
   planes->add_option("--map", planes_args->map, "Map (.pcd, .ply or .xyz)");
   planes->add_option("--tiles", planes_args->tiles,
                      "Tiles folder (`map tile`) instead of --map: tile by tile, or over MPI ranks "
@@ -302,9 +311,14 @@ CommandRunner SetupMap(CLI::App& app) {
   planes->add_option("--gt", planes_args->gt,
                      "Ground-truth planes (a simulated world's world/planes_gt.json): log and "
                      "store the accuracy of the extracted planes");
+  return {planes, [planes_args, sigma, voxel] {
+            return RunPlanes(*planes_args, sigma->count() > 0, voxel->count() > 0);
+          }};
+}
 
+MapSubcommand AddTileCommand(CLI::App& map) {
   auto tile_args = std::make_shared<TileArgs>();
-  auto* tile = map->add_subcommand("tile", "Cut a map (or a sequence's scans) into tiles");
+  auto* tile = map.add_subcommand("tile", "Cut a map (or a sequence's scans) into tiles");
   tile->add_option("--map", tile_args->map, "Map (.pcd, .ply or .xyz)");
   tile->add_option("--sequence", tile_args->sequence, "KITTI sequence folder, instead of --map");
   tile->add_option("--poses", tile_args->poses, "KITTI pose file of --sequence");
@@ -323,13 +337,20 @@ CommandRunner SetupMap(CLI::App& app) {
       ->capture_default_str();
   tile->add_option("--max-range", tile_args->build.max_range, "--sequence: metres")
       ->capture_default_str();
+  return {tile, [tile_args] { return RunTile(*tile_args); }};
+}
 
-  return [build, planes, tile, refine, build_args, planes_args, tile_args, refine_args, sigma,
-          voxel]() {
-    if (build->parsed()) return RunBuild(*build_args);
-    if (refine->parsed()) return RunRefine(*refine_args);
-    if (tile->parsed()) return RunTile(*tile_args);
-    if (planes->parsed()) return RunPlanes(*planes_args, sigma->count() > 0, voxel->count() > 0);
+CommandRunner SetupMap(CLI::App& app) {
+  auto* map = app.add_subcommand("map", "LiDAR map: build it from scans, extract its planes");
+  map->require_subcommand(1);
+  const MapSubcommand build = AddBuildCommand(*map);
+  const MapSubcommand refine = AddRefineCommand(*map);
+  const MapSubcommand planes = AddPlanesCommand(*map);
+  const MapSubcommand tile = AddTileCommand(*map);
+  return [build, refine, tile, planes]() {
+    for (const MapSubcommand* chosen : {&build, &refine, &tile, &planes}) {
+      if (chosen->command->parsed()) return chosen->run();
+    }
     return 2;
   };
 }

@@ -85,7 +85,8 @@ std::shared_ptr<const StereoSource> OpenBag(const RunArgs& args) {
 #endif
 }
 
-int Run(const RunArgs& args) {
+// The flags' values and combinations, and the outputs' folders, before any work.
+void CheckRunArgs(const RunArgs& args) {
   CheckInput(args.sequence.empty() != args.bag.empty(), "", 0,
              args.bag.empty() ? "no input given" : "--sequence and --bag given together",
              "pass either --sequence (a KITTI-layout folder) or --bag (a ROS 1 bag)");
@@ -107,12 +108,13 @@ int Run(const RunArgs& args) {
                     {"--planes", args.planes},
                     {"--config", args.config},
                     {"--bag", args.bag}});
-  if (!args.report_dir.empty()) PrepareReportDir(args.report_dir);
-  KeepFreedMemoryForReuse();
+}
+
+// Opens --bag: call after the checks of CheckRunArgs.
+RunOptions MakeRunOptions(const RunArgs& args) {
   RunOptions options;
   options.sequence = args.sequence;
   if (!args.bag.empty()) options.source = OpenBag(args);
-  const std::string input = args.bag.empty() ? args.sequence : args.bag;
   options.cameras = ParseCameraChoice(args.cameras);
   if (!args.init_pose_from.empty()) {
     options.world_from_cam_initial = ReadFirstPose(args.init_pose_from);
@@ -144,7 +146,10 @@ int Run(const RunArgs& args) {
   options.deterministic = args.deterministic;
   options.threads = args.threads;
   options.max_frames = args.frames;
-  const RunSummary summary = RunSequence(options);
+  return options;
+}
+
+void LogRunSummary(const RunSummary& summary) {
   spdlog::info(
       "{} frames in {:.1f} s ({:.1f} fps): {} tracked, {} lost, {} skipped, {} keyframes, "
       "{:.0f} tracked points per frame, median BA reprojection error {:.3f} px",
@@ -157,55 +162,67 @@ int Run(const RunArgs& args) {
       "were (moved since the snapshot)",
       summary.ba.keyframes, summary.ba.applied, summary.ba.superseded, summary.ba.discarded,
       summary.ba.unusable, summary.ba.empty, summary.ba.stale_keyframes, summary.ba.stale_points);
-  if (options.planes_path) {
+}
+
+void LogPlaneMapSummary(const RunSummary& summary, const RunOptions& options,
+                        const std::string& planes_path) {
+  spdlog::info(
+      "plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average, {} "
+      "planes disabled (biased), {} map moves by the planes' consensus on the trajectory's "
+      "offset",
+      summary.planes, summary.mean_ba_plane_residuals, summary.planes_disabled,
+      summary.consensus_corrections);
+  if (summary.crease_keyframes > 0) {
     spdlog::info(
-        "plane map: {} planes, {:.0f} point-to-plane residuals per local BA on average, {} "
-        "planes disabled (biased), {} map moves by the planes' consensus on the trajectory's "
-        "offset",
-        summary.planes, summary.mean_ba_plane_residuals, summary.planes_disabled,
-        summary.consensus_corrections);
-    if (summary.crease_keyframes > 0) {
-      spdlog::info(
-          "crease check (LSD): {} keyframes, {:.1f} visible / {:.1f} confirmed creases per "
-          "keyframe, median edge distance {}",
-          summary.crease_keyframes, summary.mean_visible_creases, summary.mean_confirmed_creases,
-          summary.median_edge_px ? fmt::format("{:.2f} px", *summary.median_edge_px) : "-");
-    }
-    if (options.start_prior.Exact()) {
-      spdlog::info(
-          "map lock: exact start (--init-sigma \"0 0 0\"), plane constraints from frame 0");
-    }
-    for (const LockEvent& event : summary.lock_events) {
-      const Eigen::Vector3d t = event.map_from_world.translation;
-      spdlog::info(
-          "map lock: {} at frame {} (keyframes from {}): correction {:.3f} m [{:.3f} {:.3f} "
-          "{:.3f}], {:.3f} deg",
-          event.recorrection ? "re-registered" : MapLockName(event.lock), event.frame,
-          event.first_keyframe_id, t.norm(), t.x(), t.y(), t.z(),
-          RotationAngle(event.map_from_world.rotation, Eigen::Quaterniond::Identity()) * 180.0 /
-              std::numbers::pi);
-    }
-    if (!options.start_prior.Exact()) {
-      if (summary.final_map_lock == "searching") {
-        spdlog::warn(
-            "{}: the run never registered itself to the plane map (map lock: searching); the "
-            "trajectory is visual odometry in the frame of the initial pose. The planes in view "
-            "may not constrain the pose (only the road, or planes far away), or the initial pose "
-            "is farther off than --init-sigma says.",
-            args.planes);
-      } else {
-        spdlog::info("map lock at the end: {}", summary.final_map_lock);
-      }
-    }
-    if (summary.planes > 0 && summary.keyframes > 1 && summary.mean_ba_plane_residuals < 1.0 &&
-        summary.final_map_lock != "searching") {
+        "crease check (LSD): {} keyframes, {:.1f} visible / {:.1f} confirmed creases per "
+        "keyframe, median edge distance {}",
+        summary.crease_keyframes, summary.mean_visible_creases, summary.mean_confirmed_creases,
+        summary.median_edge_px ? fmt::format("{:.2f} px", *summary.median_edge_px) : "-");
+  }
+  if (options.start_prior.Exact()) {
+    spdlog::info("map lock: exact start (--init-sigma \"0 0 0\"), plane constraints from frame 0");
+  }
+  for (const LockEvent& event : summary.lock_events) {
+    const Eigen::Vector3d t = event.map_from_world.translation;
+    spdlog::info(
+        "map lock: {} at frame {} (keyframes from {}): correction {:.3f} m [{:.3f} {:.3f} "
+        "{:.3f}], {:.3f} deg",
+        event.recorrection ? "re-registered" : MapLockName(event.lock), event.frame,
+        event.first_keyframe_id, t.norm(), t.x(), t.y(), t.z(),
+        RotationAngle(event.map_from_world.rotation, Eigen::Quaterniond::Identity()) * 180.0 /
+            std::numbers::pi);
+  }
+  if (!options.start_prior.Exact()) {
+    if (summary.final_map_lock == "searching") {
       spdlog::warn(
-          "{}: almost no map point lay on a plane of the map; is the plane map in the frame of "
-          "the initial pose? (give --init-pose-from the poses the map was built with)",
-          args.planes);
+          "{}: the run never registered itself to the plane map (map lock: searching); the "
+          "trajectory is visual odometry in the frame of the initial pose. The planes in view "
+          "may not constrain the pose (only the road, or planes far away), or the initial pose "
+          "is farther off than --init-sigma says.",
+          planes_path);
+    } else {
+      spdlog::info("map lock at the end: {}", summary.final_map_lock);
     }
   }
+  if (summary.planes > 0 && summary.keyframes > 1 && summary.mean_ba_plane_residuals < 1.0 &&
+      summary.final_map_lock != "searching") {
+    spdlog::warn(
+        "{}: almost no map point lay on a plane of the map; is the plane map in the frame of "
+        "the initial pose? (give --init-pose-from the poses the map was built with)",
+        planes_path);
+  }
+}
+
+int Run(const RunArgs& args) {
+  CheckRunArgs(args);
+  if (!args.report_dir.empty()) PrepareReportDir(args.report_dir);
+  KeepFreedMemoryForReuse();
+  const RunOptions options = MakeRunOptions(args);
+  const RunSummary summary = RunSequence(options);
+  LogRunSummary(summary);
+  if (options.planes_path) LogPlaneMapSummary(summary, options, args.planes);
   spdlog::info("trajectory: {}", args.out);
+  const std::string input = args.bag.empty() ? args.sequence : args.bag;
   // A few skipped frames are bridged by the motion model; a trajectory mostly extrapolated is not
   // a result (e.g. a right camera that went black after frame 0).
   CheckInput(2 * summary.skipped <= summary.frames, input, 0,

@@ -26,6 +26,75 @@ struct Frame {
   std::vector<std::pair<std::string, sensor_msgs::CameraInfo::ConstPtr>> infos;
 };
 
+// Frames in record order (the converter records the four messages of a frame at one time).
+std::map<ros::Time, Frame> ReadFrames(const std::string& bag_path) {
+  std::map<ros::Time, Frame> frames;
+  rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    Frame& frame = frames[m.getTime()];
+    if (auto image = m.instantiate<sensor_msgs::Image>())
+      frame.images.emplace_back(m.getTopic(), image);
+    if (auto info = m.instantiate<sensor_msgs::CameraInfo>())
+      frame.infos.emplace_back(m.getTopic(), info);
+  }
+  return frames;
+}
+
+std::map<std::string, ros::Publisher> AdvertiseTopics(ros::NodeHandle& nh,
+                                                      const std::map<ros::Time, Frame>& frames) {
+  std::map<std::string, ros::Publisher> publishers;
+  for (const auto& [time, frame] : frames) {
+    for (const auto& [topic, image] : frame.images) {
+      if (!publishers.count(topic))
+        publishers[topic] = nh.advertise<sensor_msgs::Image>(topic, 100);
+    }
+    for (const auto& [topic, info] : frame.infos) {
+      if (!publishers.count(topic))
+        publishers[topic] = nh.advertise<sensor_msgs::CameraInfo>(topic, 100);
+    }
+  }
+  return publishers;
+}
+
+// What the node published, kept by the subscriptions' callbacks.
+struct Recording {
+  std::vector<nav_msgs::Odometry> poses;
+  std::size_t plane_markers = 0;
+  std::string status;
+};
+
+void PlayFrames(const std::map<ros::Time, Frame>& frames,
+                std::map<std::string, ros::Publisher>& publishers, double rate_hz) {
+  // The camera info first, on its own: the node drops images until it has both (messages on
+  // different topics may arrive in any order).
+  for (const auto& [topic, info] : frames.begin()->second.infos) publishers[topic].publish(info);
+  ros::WallDuration(1.0).sleep();
+  ros::WallRate rate(rate_hz);
+  for (const auto& [time, frame] : frames) {
+    for (const auto& [topic, info] : frame.infos) publishers[topic].publish(info);
+    for (const auto& [topic, image] : frame.images) publishers[topic].publish(image);
+    ros::spinOnce();
+    rate.sleep();
+  }
+}
+
+// The poses as KITTI lines (world_from_cam, row-major 3x4); false when the file cannot be opened.
+bool WriteKittiPoses(const char* path, const std::vector<nav_msgs::Odometry>& poses) {
+  std::FILE* out = std::fopen(path, "w");
+  if (!out) return false;
+  for (const nav_msgs::Odometry& m : poses) {
+    const auto& p = m.pose.pose;
+    const Eigen::Matrix3d r =
+        Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)
+            .toRotationMatrix();
+    std::fprintf(out, "%.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e\n", r(0, 0),
+                 r(0, 1), r(0, 2), p.position.x, r(1, 0), r(1, 1), r(1, 2), p.position.y, r(2, 0),
+                 r(2, 1), r(2, 2), p.position.z);
+  }
+  std::fclose(out);
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -39,44 +108,24 @@ int main(int argc, char** argv) {
   const std::string node = argv[3];
   const double timeout = std::stod(argv[5]);
 
-  // Frames in record order (the converter records the four messages of a frame at one time).
-  std::map<ros::Time, Frame> frames;
-  rosbag::Bag bag(argv[1], rosbag::bagmode::Read);
-  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
-    Frame& frame = frames[m.getTime()];
-    if (auto image = m.instantiate<sensor_msgs::Image>())
-      frame.images.emplace_back(m.getTopic(), image);
-    if (auto info = m.instantiate<sensor_msgs::CameraInfo>())
-      frame.infos.emplace_back(m.getTopic(), info);
-  }
+  const std::map<ros::Time, Frame> frames = ReadFrames(argv[1]);
   if (frames.empty()) {
     std::fprintf(stderr, "player: %s holds no message\n", argv[1]);
     return 1;
   }
-  std::map<std::string, ros::Publisher> publishers;
-  for (const auto& [time, frame] : frames) {
-    for (const auto& [topic, image] : frame.images) {
-      if (!publishers.count(topic))
-        publishers[topic] = nh.advertise<sensor_msgs::Image>(topic, 100);
-    }
-    for (const auto& [topic, info] : frame.infos) {
-      if (!publishers.count(topic))
-        publishers[topic] = nh.advertise<sensor_msgs::CameraInfo>(topic, 100);
-    }
-  }
+  std::map<std::string, ros::Publisher> publishers = AdvertiseTopics(nh, frames);
 
-  std::vector<nav_msgs::Odometry> poses;
-  std::size_t plane_markers = 0;
-  std::string status;
+  Recording recording;
   auto odometry_sub = nh.subscribe<nav_msgs::Odometry>(
       node + "/odometry", 1000,
-      [&](const nav_msgs::Odometry::ConstPtr& m) { poses.push_back(*m); });
+      [&](const nav_msgs::Odometry::ConstPtr& m) { recording.poses.push_back(*m); });
   auto planes_sub = nh.subscribe<visualization_msgs::MarkerArray>(
       node + "/planes", 1, [&](const visualization_msgs::MarkerArray::ConstPtr& m) {
-        plane_markers = m->markers.size();
+        recording.plane_markers = m->markers.size();
       });
   auto status_sub = nh.subscribe<std_msgs::String>(
-      node + "/status", 1000, [&](const std_msgs::String::ConstPtr& m) { status = m->data; });
+      node + "/status", 1000,
+      [&](const std_msgs::String::ConstPtr& m) { recording.status = m->data; });
 
   // Wait until the node listens on every topic (and our subscriptions are connected).
   const ros::WallTime start = ros::WallTime::now();
@@ -94,37 +143,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "player: the node did not subscribe within %.0f s\n", timeout);
     return 1;
   }
-  // The camera info first, on its own: the node drops images until it has both (messages on
-  // different topics may arrive in any order).
-  for (const auto& [topic, info] : frames.begin()->second.infos) publishers[topic].publish(info);
-  ros::WallDuration(1.0).sleep();
-  ros::WallRate rate(rate_hz);
-  for (const auto& [time, frame] : frames) {
-    for (const auto& [topic, info] : frame.infos) publishers[topic].publish(info);
-    for (const auto& [topic, image] : frame.images) publishers[topic].publish(image);
-    ros::spinOnce();
-    rate.sleep();
-  }
-  while (ros::ok() && poses.size() < frames.size() &&
+  PlayFrames(frames, publishers, rate_hz);
+  while (ros::ok() && recording.poses.size() < frames.size() &&
          (ros::WallTime::now() - start).toSec() < timeout) {
     ros::spinOnce();
     ros::WallDuration(0.05).sleep();
   }
-  std::FILE* out = std::fopen(argv[4], "w");
-  if (!out) return 1;
-  for (const nav_msgs::Odometry& m : poses) {
-    const auto& p = m.pose.pose;
-    const Eigen::Matrix3d r =
-        Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)
-            .toRotationMatrix();
-    std::fprintf(out, "%.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e %.9e\n", r(0, 0),
-                 r(0, 1), r(0, 2), p.position.x, r(1, 0), r(1, 1), r(1, 2), p.position.y, r(2, 0),
-                 r(2, 1), r(2, 2), p.position.z);
-  }
-  std::fclose(out);
+  if (!WriteKittiPoses(argv[4], recording.poses)) return 1;
   std::printf(
       "player: %zu frames played at %.1f Hz, %zu poses received, %zu plane markers, last "
       "status \"%s\"\n",
-      frames.size(), rate_hz, poses.size(), plane_markers, status.c_str());
-  return poses.size() == frames.size() ? 0 : 1;
+      frames.size(), rate_hz, recording.poses.size(), recording.plane_markers,
+      recording.status.c_str());
+  return recording.poses.size() == frames.size() ? 0 : 1;
 }

@@ -177,12 +177,8 @@ void AddStatsLine(const json& s, json* frames, json* timing, json* kf, json* ba,
   lock->push_back(s.value("map_lock", ""));
 }
 
-LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
-  std::error_code error;
-  CheckInput(fs::is_directory(dir, error), dir.string(), 0,
-             fmt::format("{}: not a report folder", flag),
-             "pass the folder given to `planeloc run --report-dir`");
-  LoadedRun run;
+// run.json (optional): the run's mode, sequence and trajectory format.
+json ReadRunMeta(const fs::path& dir) {
   json meta = json::object();
   if (std::optional<std::string> text = ReadIfExists(dir / "run.json")) {
     meta = json::parse(*text, nullptr, /*allow_exceptions=*/false);
@@ -194,26 +190,12 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
                  "re-run `planeloc run --report-dir` to rewrite the folder");
     }
   }
-  if (meta.contains("format") && meta["format"].is_string()) {
-    run.format = ParseTrajectoryFormat(meta["format"].get<std::string>());
-  }
-  const fs::path trajectory = dir / "trajectory.txt";
-  CheckInput(fs::is_regular_file(trajectory, error), trajectory.string(), 0,
-             fmt::format("{}: the report folder has no trajectory", flag),
-             "pass a folder written by `planeloc run --report-dir`");
-  run.poses = ReadPoses(trajectory, run.format);
-  if (fs::is_regular_file(dir / "planes.json", error))
-    run.planes = ReadPlaneMap(dir / "planes.json");
-  const std::string mode = meta.value("mode", run.planes ? "planes" : "vo");
+  return meta;
+}
 
-  json& out = run.data;
-  out["dir"] = dir.string();
-  out["mode"] = mode;
-  out["label"] = mode == "planes" ? "plane mode" : "VO (no planes)";
-  out["sequence"] = meta.value("sequence", "");
-  out["positions"] = PositionsJson(run.poses);
-
-  // Per-frame stats: timing per stage, keyframes and what they tracked, map lock.
+// Per-frame stats (stats.jsonl, optional) into `out`: timing per stage, keyframes and what they
+// tracked, map lock.
+void AddStatsSeries(const fs::path& dir, json& out) {
   json timing = {{"extract", json::array()},
                  {"track", json::array()},
                  {"local_map", json::array()},
@@ -251,13 +233,11 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
   out["keyframes"] = kf;
   out["ba"] = ba;
   out["map_lock"] = any_lock ? lock : json(nullptr);
-  out["summary"] = json::object();
-  if (std::optional<std::string> text = ReadIfExists(dir / "summary.json")) {
-    const json summary = json::parse(*text, nullptr, /*allow_exceptions=*/false);
-    if (summary.is_object()) out["summary"] = summary;
-  }
-  out["settings"] = ReadIfExists(dir / "settings.yaml").value_or("");
+}
 
+// The keyframe overlays (keyframes/*.png|jpg), by name, embedded as base64.
+json KeyframeImages(const fs::path& dir) {
+  std::error_code error;
   json images = json::array();
   std::vector<fs::path> files;
   if (fs::is_directory(dir / "keyframes", error)) {
@@ -274,7 +254,44 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
                       {"mime", file.extension() == ".png" ? "image/png" : "image/jpeg"},
                       {"data", Base64(*bytes)}});
   }
-  out["images"] = images;
+  return images;
+}
+
+LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
+  std::error_code error;
+  CheckInput(fs::is_directory(dir, error), dir.string(), 0,
+             fmt::format("{}: not a report folder", flag),
+             "pass the folder given to `planeloc run --report-dir`");
+  LoadedRun run;
+  const json meta = ReadRunMeta(dir);
+  if (meta.contains("format") && meta["format"].is_string()) {
+    run.format = ParseTrajectoryFormat(meta["format"].get<std::string>());
+  }
+  const fs::path trajectory = dir / "trajectory.txt";
+  CheckInput(fs::is_regular_file(trajectory, error), trajectory.string(), 0,
+             fmt::format("{}: the report folder has no trajectory", flag),
+             "pass a folder written by `planeloc run --report-dir`");
+  run.poses = ReadPoses(trajectory, run.format);
+  if (fs::is_regular_file(dir / "planes.json", error))
+    run.planes = ReadPlaneMap(dir / "planes.json");
+  const std::string mode = meta.value("mode", run.planes ? "planes" : "vo");
+
+  json& out = run.data;
+  out["dir"] = dir.string();
+  out["mode"] = mode;
+  out["label"] = mode == "planes" ? "plane mode" : "VO (no planes)";
+  out["sequence"] = meta.value("sequence", "");
+  out["positions"] = PositionsJson(run.poses);
+
+  AddStatsSeries(dir, out);
+  out["summary"] = json::object();
+  if (std::optional<std::string> text = ReadIfExists(dir / "summary.json")) {
+    const json summary = json::parse(*text, nullptr, /*allow_exceptions=*/false);
+    if (summary.is_object()) out["summary"] = summary;
+  }
+  out["settings"] = ReadIfExists(dir / "settings.yaml").value_or("");
+
+  out["images"] = KeyframeImages(dir);
   return run;
 }
 

@@ -43,18 +43,14 @@ double Chi2(const ceres::CostFunction& cost, const PoseBlocks& pose) {
   return r[0] * r[0] + r[1] * r[1] + (cost.num_residuals() == 3 ? r[2] * r[2] : 0.0);
 }
 
-}  // namespace
-
-PoseOptimizerResult OptimizePose(const StereoCamera& camera, const Rigid3d& cam_from_world_initial,
-                                 const std::vector<PoseObservation>& observations,
-                                 const PoseOptimizerOptions& options) {
-  options.Check();
+// Also sets stereo[i] (sized to the observations): whether observation i has a right-image
+// coordinate.
+std::vector<std::unique_ptr<ceres::CostFunction>> MakeCosts(
+    const StereoCamera& camera, const std::vector<PoseObservation>& observations,
+    std::vector<bool>& stereo) {
   const PinholeStereoIntrinsics k = PinholeStereoIntrinsics::From(camera);
   const int n = static_cast<int>(observations.size());
-
-  // One analytic cost per observation, reused by every round's problem.
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
-  std::vector<bool> stereo(n);
   costs.reserve(n);
   for (int i = 0; i < n; ++i) {
     const PoseObservation& o = observations[i];
@@ -67,6 +63,40 @@ PoseOptimizerResult OptimizePose(const StereoCamera& camera, const Rigid3d& cam_
                                                           o.point_in_world, o.information));
     }
   }
+  return costs;
+}
+
+// The costs, losses and manifold outlive every round's problem.
+ceres::Problem::Options NonOwningProblemOptions() {
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  return problem_options;
+}
+
+ceres::Solver::Options RoundSolverOptions(const PoseOptimizerOptions& options) {
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;  // 6x6 normal equations
+  solver_options.max_num_iterations = options.iterations_per_round;
+  solver_options.num_threads = 1;  // deterministic, and a 6-DoF problem gains nothing
+  solver_options.logging_type = ceres::SILENT;
+  solver_options.minimizer_progress_to_stdout = false;
+  return solver_options;
+}
+
+}  // namespace
+
+PoseOptimizerResult OptimizePose(const StereoCamera& camera, const Rigid3d& cam_from_world_initial,
+                                 const std::vector<PoseObservation>& observations,
+                                 const PoseOptimizerOptions& options) {
+  options.Check();
+  const int n = static_cast<int>(observations.size());
+
+  // One analytic cost per observation, reused by every round's problem.
+  std::vector<bool> stereo(n);
+  const std::vector<std::unique_ptr<ceres::CostFunction>> costs =
+      MakeCosts(camera, observations, stereo);
 
   PoseBlocks pose;
   Eigen::Map<Eigen::Quaterniond>(pose.q) = cam_from_world_initial.rotation.normalized();
@@ -81,17 +111,8 @@ PoseOptimizerResult OptimizePose(const StereoCamera& camera, const Rigid3d& cam_
   ceres::HuberLoss huber_stereo(std::sqrt(options.chi2_stereo));
   ceres::EigenQuaternionManifold quaternion_manifold;
 
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;  // 6x6 normal equations
-  solver_options.max_num_iterations = options.iterations_per_round;
-  solver_options.num_threads = 1;  // deterministic, and a 6-DoF problem gains nothing
-  solver_options.logging_type = ceres::SILENT;
-  solver_options.minimizer_progress_to_stdout = false;
+  const ceres::Problem::Options problem_options = NonOwningProblemOptions();
+  const ceres::Solver::Options solver_options = RoundSolverOptions(options);
 
   const auto classify = [&] {
     for (int i = 0; i < n; ++i) {

@@ -205,22 +205,14 @@ struct RoundOutcome {
   int num_plane_residuals = 0;
 };
 
-// One Levenberg-Marquardt run over the active residuals. Points form the first elimination
-// group of the Schur complement, poses the second, so each solve factors only the small reduced
-// camera system.
-RoundOutcome SolveRound(const WindowProblem& problem, const WindowBaOptions& options,
-                        const std::vector<bool>& active_obs, const std::vector<bool>& active_plane,
-                        bool robust_reprojection, WindowState& s) {
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem ceres_problem(problem_options);
-  ceres::EigenQuaternionManifold quaternion_manifold;
-  const RoundLosses losses(options, robust_reprojection);
-  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-
-  std::vector<bool> pose_added(s.poses.size()), point_added(s.points.size());
+// The active observations' reprojection residuals; points go to elimination group 0, poses to
+// group 1. Marks the points it adds in `point_added`; returns the number of free keyframes.
+int AddReprojectionResiduals(const WindowProblem& problem, const std::vector<bool>& active_obs,
+                             const RoundLosses& losses, ceres::Manifold* quaternion_manifold,
+                             WindowState& s, ceres::Problem& ceres_problem,
+                             ceres::ParameterBlockOrdering& ordering,
+                             std::vector<bool>& point_added) {
+  std::vector<bool> pose_added(s.poses.size());
   int num_free_keyframes = 0;
   for (size_t i = 0; i < active_obs.size(); ++i) {
     if (!active_obs[i]) continue;
@@ -233,9 +225,9 @@ RoundOutcome SolveRound(const WindowProblem& problem, const WindowBaOptions& opt
     if (!pose_added[kf]) {
       pose_added[kf] = true;
       if (!problem.keyframes[kf].fixed) ++num_free_keyframes;
-      ceres_problem.SetManifold(q, &quaternion_manifold);
-      ordering->AddElementToGroup(q, 1);
-      ordering->AddElementToGroup(t, 1);
+      ceres_problem.SetManifold(q, quaternion_manifold);
+      ordering.AddElementToGroup(q, 1);
+      ordering.AddElementToGroup(t, 1);
       // Fixed keyframes are anchors; at least one of them also fixes the gauge (6 DoF for
       // stereo, 7 for monocular-only windows) that the reprojection error cannot observe.
       if (problem.keyframes[kf].fixed) {
@@ -245,12 +237,18 @@ RoundOutcome SolveRound(const WindowProblem& problem, const WindowBaOptions& opt
     }
     if (!point_added[pt]) {
       point_added[pt] = true;
-      ordering->AddElementToGroup(x, 0);
+      ordering.AddElementToGroup(x, 0);
     }
   }
-  RoundOutcome outcome;
-  // A plane residual only for points that are also seen: alone it would fix 1 of 3 DoF.
-  ceres::SubsetManifold hold_tilt(3, {1, 2});
+  return num_free_keyframes;
+}
+
+// The active plane residuals of points that are also seen (alone a plane residual would fix 1 of
+// 3 DoF), with the prior of each plane correction they reach. Returns their count.
+int AddPlaneResiduals(const std::vector<bool>& point_added, const std::vector<bool>& active_plane,
+                      const RoundLosses& losses, ceres::Manifold* hold_tilt, WindowState& s,
+                      ceres::Problem& ceres_problem, ceres::ParameterBlockOrdering& ordering) {
+  int num_plane_residuals = 0;
   std::vector<bool> correction_added(s.corrections.size(), false);
   for (size_t p = 0; p < s.points.size(); ++p) {
     if (!point_added[p] || !s.plane_costs[p] || !active_plane[p]) continue;
@@ -269,13 +267,38 @@ RoundOutcome SolveRound(const WindowProblem& problem, const WindowBaOptions& opt
         // (it is not a measurement that can be an outlier).
         ceres_problem.AddResidualBlock(s.correction_priors[c].get(), losses.plane_prior.get(),
                                        correction);
-        if (s.correction_holds_tilt[c]) ceres_problem.SetManifold(correction, &hold_tilt);
+        if (s.correction_holds_tilt[c]) ceres_problem.SetManifold(correction, hold_tilt);
         // Not eliminated with the points: it links many of them, like a pose.
-        ordering->AddElementToGroup(correction, 1);
+        ordering.AddElementToGroup(correction, 1);
       }
     }
-    ++outcome.num_plane_residuals;
+    ++num_plane_residuals;
   }
+  return num_plane_residuals;
+}
+
+// One Levenberg-Marquardt run over the active residuals. Points form the first elimination
+// group of the Schur complement, poses the second, so each solve factors only the small reduced
+// camera system.
+RoundOutcome SolveRound(const WindowProblem& problem, const WindowBaOptions& options,
+                        const std::vector<bool>& active_obs, const std::vector<bool>& active_plane,
+                        bool robust_reprojection, WindowState& s) {
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem ceres_problem(problem_options);
+  ceres::EigenQuaternionManifold quaternion_manifold;
+  const RoundLosses losses(options, robust_reprojection);
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+
+  std::vector<bool> point_added(s.points.size());
+  const int num_free_keyframes = AddReprojectionResiduals(
+      problem, active_obs, losses, &quaternion_manifold, s, ceres_problem, *ordering, point_added);
+  RoundOutcome outcome;
+  ceres::SubsetManifold hold_tilt(3, {1, 2});
+  outcome.num_plane_residuals =
+      AddPlaneResiduals(point_added, active_plane, losses, &hold_tilt, s, ceres_problem, *ordering);
   if (ceres_problem.NumResidualBlocks() == 0) return outcome;  // summary stays unusable
 
   ceres::Solver::Options solver_options;
