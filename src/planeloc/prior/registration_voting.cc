@@ -57,6 +57,61 @@ HoughFacade MakeHoughFacade(const Plane& plane, const std::vector<Eigen::Vector3
   return facade;
 }
 
+namespace {
+
+// The strongest local maxima (options.peaks_per_heading) of one heading's accumulator after a
+// 3x3 box filter (a true shift often falls on a cell border); `smoothed` is scratch space.
+std::vector<HeadingShiftPeak> HeadingPeaks(const std::vector<float>& accumulator, int nx, int ny,
+                                           double heading, const ShiftGrid& grid,
+                                           const HoughOptions& options,
+                                           std::vector<float>& smoothed) {
+  // 3x3 box filter (a true shift often falls on a cell border), then local maxima.
+  const auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < nx && y < ny; };
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      float sum = 0;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (inside(ix + dx, iy + dy)) sum += accumulator[(iy + dy) * nx + ix + dx];
+        }
+      }
+      smoothed[iy * nx + ix] = sum;
+    }
+  }
+  std::vector<HeadingShiftPeak> local;
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      const float value = smoothed[iy * nx + ix];
+      if (value <= 0) continue;
+      bool is_max = true;
+      for (int dy = -1; dy <= 1 && is_max; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          if ((dx || dy) && inside(ix + dx, iy + dy) &&
+              smoothed[(iy + dy) * nx + ix + dx] > value) {
+            is_max = false;
+            break;
+          }
+        }
+      }
+      if (!is_max) continue;
+      HeadingShiftPeak peak;
+      peak.votes = value;
+      peak.heading = heading;
+      peak.shift_xy = (ix * grid.cell - grid.half_range[0]) * grid.axis[0] +
+                      (iy * grid.cell - grid.half_range[1]) * grid.axis[1];
+      local.push_back(peak);
+    }
+  }
+  std::sort(local.begin(), local.end(),
+            [](const HeadingShiftPeak& a, const HeadingShiftPeak& b) { return a.votes > b.votes; });
+  if (static_cast<int>(local.size()) > options.peaks_per_heading) {
+    local.resize(options.peaks_per_heading);
+  }
+  return local;
+}
+
+}  // namespace
+
 std::vector<HeadingShiftPeak> VoteHeadingAndShift(
     const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& pivot,
     const Eigen::Vector3d& up, const std::vector<HoughFacade>& facades,
@@ -101,49 +156,8 @@ std::vector<HeadingShiftPeak> VoteHeadingAndShift(
         }
       }
     }
-    // 3x3 box filter (a true shift often falls on a cell border), then local maxima.
-    const auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < nx && y < ny; };
-    for (int iy = 0; iy < ny; ++iy) {
-      for (int ix = 0; ix < nx; ++ix) {
-        float sum = 0;
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            if (inside(ix + dx, iy + dy)) sum += accumulator[(iy + dy) * nx + ix + dx];
-          }
-        }
-        smoothed[iy * nx + ix] = sum;
-      }
-    }
-    std::vector<HeadingShiftPeak> local;
-    for (int iy = 0; iy < ny; ++iy) {
-      for (int ix = 0; ix < nx; ++ix) {
-        const float value = smoothed[iy * nx + ix];
-        if (value <= 0) continue;
-        bool is_max = true;
-        for (int dy = -1; dy <= 1 && is_max; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            if ((dx || dy) && inside(ix + dx, iy + dy) &&
-                smoothed[(iy + dy) * nx + ix + dx] > value) {
-              is_max = false;
-              break;
-            }
-          }
-        }
-        if (!is_max) continue;
-        HeadingShiftPeak peak;
-        peak.votes = value;
-        peak.heading = heading;
-        peak.shift_xy = (ix * grid.cell - grid.half_range[0]) * grid.axis[0] +
-                        (iy * grid.cell - grid.half_range[1]) * grid.axis[1];
-        local.push_back(peak);
-      }
-    }
-    std::sort(local.begin(), local.end(), [](const HeadingShiftPeak& a, const HeadingShiftPeak& b) {
-      return a.votes > b.votes;
-    });
-    if (static_cast<int>(local.size()) > options.peaks_per_heading) {
-      local.resize(options.peaks_per_heading);
-    }
+    std::vector<HeadingShiftPeak> local =
+        HeadingPeaks(accumulator, nx, ny, heading, grid, options, smoothed);
     peaks.insert(peaks.end(), local.begin(), local.end());
   }
   std::stable_sort(
