@@ -1,12 +1,11 @@
 #include "planeloc/localizer/localizer.h"
 
-#include "planeloc/pipeline/tracker.h"
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <opencv2/imgproc.hpp>
 
+#include "planeloc/pipeline/tracker.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {

@@ -8,8 +8,8 @@
 // Before the lock the run is visual odometry in the start pose's frame and the BA uses no plane
 // residual (a wrong association from a coarse pose would pull the map towards the wrong plane).
 // A registration runs on the pipeline's worker (or in line when deterministic) over a copy of
-// the structure (RegistrationJob); its correction applies to the keyframes and points of the current
-// segment, which a later correction or a loss never touches twice.
+// the structure (RegistrationJob); its correction applies to the keyframes and points of the
+// current segment, which a later correction or a loss never touches twice.
 #pragma once
 
 #include <memory>
