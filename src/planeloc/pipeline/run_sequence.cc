@@ -15,6 +15,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "planeloc/io/initial_pose.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/pipeline/keyframe_overlay.h"
 #include "planeloc/util/error.h"
@@ -23,34 +24,6 @@
 
 namespace planeloc {
 namespace {
-
-std::vector<double> ParseNumbers(const std::string& text) {
-  std::istringstream in(text);
-  std::vector<double> numbers;
-  std::string token;
-  while (in >> token) {
-    try {
-      std::size_t used = 0;
-      numbers.push_back(std::stod(token, &used));
-      if (used != token.size()) return {};
-    } catch (const std::exception&) {
-      return {};
-    }
-  }
-  return numbers;
-}
-
-// A pose from 12 numbers; `source`/`line` name where they came from in the errors.
-Rigid3d FromTwelve(const std::vector<double>& v, const std::string& source, int line) {
-  Eigen::Matrix<double, 3, 4> m;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 4; ++c) m(r, c) = v[r * 4 + c];
-  }
-  CheckInput(m.allFinite(), source, line, "the initial pose holds a NaN or infinite value",
-             "give a finite row-major 3x4 world_from_cam");
-  CheckRotation(m.leftCols<3>(), source, line);  // io/trajectory.h: the pose files' tolerance
-  return Rigid3d::FromMatrix3x4(m);
-}
 
 std::string ReadWhole(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -193,16 +166,8 @@ void WriteReportFolder(const RunOptions& run, const RunSummary& summary,
 
 }  // namespace
 
-Rigid3d ParsePose12(const std::string& text) {
-  const std::vector<double> v = ParseNumbers(text);
-  CheckInput(v.size() == 12, "", 0,
-             "--init-pose needs 12 numbers (row-major 3x4 world_from_cam), got \"" + text + "\"",
-             "pass e.g. --init-pose \"1 0 0 0 0 1 0 0 0 0 1 0\"");
-  return FromTwelve(v, "--init-pose", 0);
-}
-
 StartPrior ParseInitSigma(const std::string& text) {
-  const std::vector<double> v = ParseNumbers(text);
+  const std::vector<double> v = ParseNumberList(text);
   StartPrior prior;
   const bool valid = v.size() == 3 && std::all_of(v.begin(), v.end(), [](double x) {
                        return std::isfinite(x) && x >= 0.0;
@@ -226,34 +191,6 @@ StartPrior ParseInitSigma(const std::string& text) {
   prior.sigma_vertical = v[1];
   prior.sigma_yaw_deg = v[2];
   return prior;
-}
-
-Rigid3d ReadFirstPose(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  CheckInput(in.good(), path.string(), 0, "cannot open the pose file",
-             "check the path given to --init-pose-from");
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty() || line[0] == '#') continue;
-    const std::vector<double> v = ParseNumbers(line);
-    if (v.size() == 12) return FromTwelve(v, path.string(), number);
-    if (v.size() == 8) {
-      const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-      CheckInput(std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }),
-                 path.string(), number, "the initial pose holds a NaN or infinite value",
-                 "write a finite TUM line: t tx ty tz qx qy qz qw");
-      CheckInput(std::abs(q.norm() - 1.0) <= kQuaternionNormTolerance, path.string(), number,
-                 fmt::format("|q| = {:.6g}: not a unit quaternion", q.norm()),
-                 "write a valid TUM line: t tx ty tz qx qy qz qw (unit quaternion)");
-      return Rigid3d(q.normalized(), Eigen::Vector3d(v[1], v[2], v[3]));
-    }
-    throw InputError(path.string(), number,
-                     "expected a KITTI pose (12 numbers) or a TUM pose (8 numbers)",
-                     "pass a KITTI or TUM trajectory file");
-  }
-  throw InputError(path.string(), 0, "the pose file holds no pose", "pass a non-empty file");
 }
 
 namespace {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "planeloc/geometry/rigid3.h"
+#include "planeloc/io/initial_pose.h"
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/io/stereo_source.h"
 #include "planeloc/io/trajectory.h"
@@ -86,11 +87,6 @@ struct RunSummary {
 // Throws InputError for unreadable input (sequence, settings, output folder).
 RunSummary RunSequence(const RunOptions& options);
 
-// The first pose of a KITTI (12 numbers a line) or TUM (8 numbers) pose file, detected from
-// the first line.
-Rigid3d ReadFirstPose(const std::filesystem::path& path);
-// "12 numbers" (row-major 3x4 world_from_cam).
-Rigid3d ParsePose12(const std::string& text);
 // "S_XY S_Z S_YAW_DEG" of --init-sigma; throws InputError naming the option.
 StartPrior ParseInitSigma(const std::string& text);
 
