@@ -33,15 +33,8 @@ struct TrackerOptions : OdometryOptions {
   }();
 
   // Threaded mode: a BA still running this many frames after it was submitted is waited for at
-  // the start of the frame (0 = no bound). When frames come faster than the BA solves (an offline
-  // run, the next frame's features extracted in parallel) the results otherwise land later and
-  // later, and the frames in between track against the unadjusted map: kitti07-like seed 1, ATE
-  // 0.096-0.138 m unbounded vs 0.064-0.077 m with 3 (deterministic 0.075 m), same fps. With 1 a
-  // BA always lands at the frame after its keyframe, so the run no longer depends on timing: on
-  // kitti07-like seeds 1, 2 and 3 (2 runs each) 1 gave 0.077 / 0.109 / 0.060 m, every run the
-  // same, against deterministic 0.075 / 0.107 / 0.058 m, and 3 gave 0.066-0.072 / 0.070-0.162 /
-  // 0.075-0.084 m, at 3 % more fps (44.0 vs 43.0 on seeds 1-2; docs/bench-tracking.md). At 10 Hz
-  // in real time a BA lands within a frame or two and the bound never waits.
+  // the start of the frame (0 = no bound; LocalBA.maxLagFrames). 1: every BA lands at the frame
+  // after its keyframe, so runs do not depend on timing (measured in docs/bench-tracking.md).
   int ba_max_lag_frames = 1;
 
   // With a plane map (`planeloc run --planes`): which map points lie on a LiDAR plane. The BA then
@@ -55,12 +48,8 @@ struct TrackerOptions : OdometryOptions {
   // Deterministic: local BA in line on the tracking thread (bit-identical runs).
   bool deterministic = false;
   int num_threads = 2;  // threads for feature extraction (>= 1)
-  // Ceres threads of the threaded local BA (LocalBA.threads); 0: num_threads. The tracker sets
-  // ba.num_threads from this (one with `deterministic`). One by default:
-  // the BA worker is already a thread beside the frame thread and the extraction, and a second
-  // Ceres thread on 2 cores only oversubscribes them (kitti07-like seed 1, 5 alternated runs: 44.7
-  // against 42.9 fps, ATE 0.085 against 0.091 m; docs/bench-tracking.md). `--deterministic` solves
-  // with one whatever this says.
+  // Ceres threads of the threaded local BA (LocalBA.threads); 0: num_threads. One: the BA worker
+  // already runs beside the frame thread (docs/bench-tracking.md); deterministic runs use one.
   int ba_threads = 1;
 
   // Throws OptionsError naming the field.

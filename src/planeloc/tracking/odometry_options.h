@@ -50,9 +50,9 @@ struct OdometryOptions {
   double far_depth_baselines = 80.0;
 
   // New map points by triangulating the new keyframe's unmatched keypoints against its best
-  // `triangulation_neighbours` covisible keyframes (ORB-SLAM2 CreateNewMapPoints). Off by
-  // default: +50 % tracked points and a lower sim ATE, but 30 % fewer fps on real KITTI frames
-  // (the extra points cost local-map tracking and BA time; see docs/tracking.md).
+  // `triangulation_neighbours` covisible keyframes (ORB-SLAM2 CreateNewMapPoints;
+  // Mapping.triangulateWithNeighbours). Off by default: more points and a lower ATE for fewer fps,
+  // a user's trade-off (docs/tracking.md).
   bool triangulate_with_neighbours = false;
   int triangulation_neighbours = 10;
 
