@@ -336,6 +336,34 @@ void Tracker::MaintainMap(int keyframe_id) {
       static_cast<int>(ForgetOldKeyframes(map_, maintenance, keep).size());
 }
 
+bool Tracker::MoveMapByPlaneConsensus(FrameStats& stats, Frame* current) {
+  // With lambda = 1 the planes do not act on the trajectory (the ablation's "no plane term").
+  if (!options_.planes.trajectory_consensus || options_.ba.lambda >= 1.0) return false;
+  // The window BA cannot pull the trajectory back by the offset itself: its fixed anchor
+  // keyframes carry the same error, and the visual terms hold the window rigidly to them. Two
+  // windows in a row agreeing on the offset move the whole map by it instead, as a lock does
+  // (not while a registration of the map lock runs: its correction would undo this one).
+  const Eigen::Vector3d offset = planes_->trajectory_offset();
+  const double tolerance = 2.0 * options_.planes.consensus_tolerance;
+  if (offset.isZero()) {
+    previous_consensus_.reset();
+    return false;
+  }
+  if (!previous_consensus_ || (offset - *previous_consensus_).norm() > tolerance ||
+      !RegistrationIdle()) {
+    previous_consensus_ = offset;
+    return false;
+  }
+  MapCorrection correction;
+  correction.map_from_world = Rigid3d(Eigen::Quaterniond::Identity(), -offset);
+  correction.first_keyframe_id = 0;
+  ApplyCorrection(correction, current, stats.frame, /*from_lock=*/false);
+  stats.consensus_correction = -offset;
+  ++consensus_corrections_;
+  previous_consensus_.reset();
+  return true;
+}
+
 std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Frame* current) {
   BaJob job;
   job.keyframe_id = keyframe_id;
@@ -352,31 +380,22 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
     lock_window_pending_ = false;
   }
   job.problem = BuildLocalWindow(map_, keyframe_id, window_options);
-  if (planes_active) AssociateWindowPlanes(job.problem, map_, camera_, options_.planes, *planes_);
-  // With lambda = 1 the planes do not act on the trajectory (the ablation's "no plane term").
-  if (planes_active && options_.planes.trajectory_consensus && options_.ba.lambda < 1.0) {
-    // The window BA cannot pull the trajectory back by the offset itself: its fixed anchor
-    // keyframes carry the same error, and the visual terms hold the window rigidly to them. Two
-    // windows in a row agreeing on the offset move the whole map by it instead, as a lock does
-    // (not while a registration of the map lock runs: its correction would undo this one).
-    const Eigen::Vector3d offset = planes_->trajectory_offset();
-    const double tolerance = 2.0 * options_.planes.consensus_tolerance;
-    if (offset.isZero()) {
-      previous_consensus_.reset();
-    } else if (previous_consensus_ && (offset - *previous_consensus_).norm() <= tolerance &&
-               RegistrationIdle()) {
-      MapCorrection correction;
-      correction.map_from_world = Rigid3d(Eigen::Quaterniond::Identity(), -offset);
-      correction.first_keyframe_id = 0;
-      ApplyCorrection(correction, current, stats.frame, /*from_lock=*/false);
-      stats.consensus_correction = -offset;
-      ++consensus_corrections_;
-      previous_consensus_.reset();
+  if (planes_active) {
+    // The window is measured once, in the frame the BA will solve it in: records of a window the
+    // consensus then moved would be the trajectory's offset, not the planes'.
+    WindowPointEstimates estimates =
+        EstimateWindowPoints(job.problem, map_, camera_, options_.planes);
+    RecordWindow(job.problem, estimates, *planes_);
+    planes_->CloseRecords();
+    if (MoveMapByPlaneConsensus(stats, current)) {
+      planes_->DiscardRecords();
       job.problem = BuildLocalWindow(map_, keyframe_id, options_);
-      AssociateWindowPlanes(job.problem, map_, camera_, options_.planes, *planes_);
-    } else {
-      previous_consensus_ = offset;
+      estimates = EstimateWindowPoints(job.problem, map_, camera_, options_.planes);
+      RecordWindow(job.problem, estimates, *planes_);
+      planes_->CloseRecords();
     }
+    planes_->CommitRecords();
+    planes_->UpdateHealth(AssociateWindowPlanes(job.problem, estimates, options_.planes, *planes_));
   }
   if (planes_) stats.planes_disabled = planes_->num_disabled();
   if (job.problem.observations.empty()) {

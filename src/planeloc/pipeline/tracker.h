@@ -98,6 +98,10 @@ class Tracker {
   // window) that the trajectory sits off the map first moves the map by that offset
   // (ApplyCorrection; `current` moves with it) and is then built again.
   std::optional<BaJob> MakeBaJob(int keyframe_id, FrameStats& stats, Frame* current);
+  // Planes.trajectoryConsensus: when the planes of this window and the previous one agree that
+  // the trajectory sits off the map (PlaneAssociator::trajectory_offset of the closed records),
+  // moves the map by that offset (`current` with it) and returns true.
+  bool MoveMapByPlaneConsensus(FrameStats& stats, Frame* current);
   // Builds the keyframe's BA window and hands it to the worker (threaded mode).
   void SubmitBa(int keyframe_id, FrameStats& stats, Frame* current);
   // Submits the deferred keyframe's BA once the worker is idle.

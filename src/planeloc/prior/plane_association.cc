@@ -321,6 +321,11 @@ TrajectoryConsensus PlaneAssociator::ConsensusOffset() const {
 }
 
 void PlaneAssociator::FinishRecords() {
+  CloseRecords();
+  CommitRecords();
+}
+
+void PlaneAssociator::CloseRecords() {
   consensus_ = ConsensusOffset();
   if (!consensus_.offset.isZero()) {
     std::string ids;
@@ -332,6 +337,9 @@ void PlaneAssociator::FinishRecords() {
         "{}",
         windows_ + 1, consensus_.offset.x(), consensus_.offset.y(), consensus_.offset.z(), ids);
   }
+}
+
+void PlaneAssociator::CommitRecords() {
   for (const PendingRecord& record : pending_) {
     FlatPlane& flat = planes_[record.index];
     flat.distance_by_point[record.point_id] = record.distance;

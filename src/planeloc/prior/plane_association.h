@@ -142,11 +142,16 @@ class PlaneAssociator {
   // bias statistics; the latest value per point counts). Call for every window point, then
   // FinishRecords before the window's Associate calls.
   void Record(int point_id, const PointEstimate& estimate);
-  // Closes the window's records: estimates the trajectory's offset from them
-  // (options.trajectory_consensus; zero otherwise or without a consensus) and adds them to the
-  // planes' statistics. UpdateHealth calls it when records are pending.
+  // Estimates the trajectory's offset from the pending records (options.trajectory_consensus;
+  // zero otherwise or without a consensus). The records stay pending.
+  void CloseRecords();
+  // Adds the pending records to the planes' statistics.
+  void CommitRecords();
+  // Drops the pending records (the window they measured was moved before it was used).
+  void DiscardRecords() { pending_.clear(); }
+  // CloseRecords, then CommitRecords. UpdateHealth calls it when records are pending.
   void FinishRecords();
-  // The offset of the last FinishRecords (map frame, metres): the estimated trajectory error e,
+  // The offset of the last CloseRecords (map frame, metres): the estimated trajectory error e,
   // points sit at n.e off a correct plane. Zero when no consensus.
   const Eigen::Vector3d& trajectory_offset() const { return consensus_.offset; }
   // Drops the point's recorded distance (a point merged into another by map-point fusion: the
@@ -216,7 +221,7 @@ class PlaneAssociator {
     double distance;
   };
   std::vector<PendingRecord> pending_;  // Record calls since the last FinishRecords
-  TrajectoryConsensus consensus_;  // of the last FinishRecords (supporters: indices in planes_)
+  TrajectoryConsensus consensus_;       // of the last CloseRecords (supporters: indices in planes_)
   int num_disabled_ = 0;
   int windows_ = 0;
   long long total_associations_ = 0;

@@ -24,18 +24,26 @@ std::optional<PointEstimate> VisualPointEstimate(const SparseMap& map, const Map
   return FusePointEstimates(estimates);
 }
 
-void AssociateWindowPlanes(WindowProblem& problem, const SparseMap& map, const StereoCamera& camera,
-                           const PlaneAssociationOptions& options, PlaneAssociator& planes) {
-  // All of the window's points are recorded before any is associated: the records may move the
-  // gate's centre (PlaneAssociator::FinishRecords, the trajectory's offset from the map).
-  std::vector<std::optional<PointEstimate>> estimates;
+WindowPointEstimates EstimateWindowPoints(const WindowProblem& problem, const SparseMap& map,
+                                          const StereoCamera& camera,
+                                          const PlaneAssociationOptions& options) {
+  WindowPointEstimates estimates;
   estimates.reserve(problem.points.size());
   for (const WindowPoint& p : problem.points) {
     estimates.push_back(VisualPointEstimate(map, map.point(p.id), camera, options));
-    if (estimates.back()) planes.Record(p.id, *estimates.back());
   }
-  planes.FinishRecords();
+  return estimates;
+}
 
+void RecordWindow(const WindowProblem& problem, const WindowPointEstimates& estimates,
+                  PlaneAssociator& planes) {
+  for (std::size_t i = 0; i < problem.points.size(); ++i) {
+    if (estimates[i]) planes.Record(problem.points[i].id, *estimates[i]);
+  }
+}
+
+int AssociateWindowPlanes(WindowProblem& problem, const WindowPointEstimates& estimates,
+                          const PlaneAssociationOptions& options, const PlaneAssociator& planes) {
   int associations = 0;
   for (std::size_t i = 0; i < problem.points.size(); ++i) {
     if (!estimates[i]) continue;
@@ -46,7 +54,6 @@ void AssociateWindowPlanes(WindowProblem& problem, const SparseMap& map, const S
       ++associations;
     }
   }
-  planes.UpdateHealth(associations);
   // Staged activation: too few associations for the plane term to be trusted, plain BA.
   const bool active = associations >= options.min_associations;
   std::set<int> plane_ids;
@@ -61,6 +68,7 @@ void AssociateWindowPlanes(WindowProblem& problem, const SparseMap& map, const S
   for (const int plane_id : plane_ids) {
     problem.planes.push_back(WindowPlane{plane_id, planes.plane(plane_id).plane_in_map});
   }
+  return associations;
 }
 
 }  // namespace planeloc

@@ -1,5 +1,6 @@
 // The prior map's half of the local window on hand-made features: which points are tagged with
-// a plane, staged activation, hysteresis, and the weights of a plane's points.
+// a plane, staged activation, hysteresis, and that associating leaves the statistics to the
+// caller.
 #include "planeloc/prior/window_planes.h"
 
 #include <gtest/gtest.h>
@@ -24,7 +25,8 @@ StereoCamera TestCamera() { return testing::RoundStereoCamera(); }
 WindowProblem Window(const SparseMap& map, int keyframe_id, const StereoCamera& camera,
                      const PlaneAssociationOptions& options, PlaneAssociator& planes) {
   WindowProblem problem = BuildLocalWindow(map, keyframe_id, OdometryOptions{});
-  AssociateWindowPlanes(problem, map, camera, options, planes);
+  AssociateWindowPlanes(problem, EstimateWindowPoints(problem, map, camera, options), options,
+                        planes);
   return problem;
 }
 
@@ -139,6 +141,41 @@ struct WallWindow {
   int keyframe_id = 0;
   PlaneMap plane_map;
 };
+
+TEST(WindowPlanesTest, OnlyTheCallerRecordsTheWindowInThePlanesStatistics) {
+  // The wall's 60 points sit 5 cm in front of the mapped wall (z = 4 against 4.05).
+  WallWindow window(4.05, 0.01);
+  PlaneAssociationOptions options;
+  options.min_associations = 1;
+  PlaneAssociator planes(window.plane_map, options);
+  WindowProblem problem = BuildLocalWindow(window.map, window.keyframe_id, OdometryOptions{});
+  const WindowPointEstimates estimates =
+      EstimateWindowPoints(problem, window.map, window.camera, options);
+  ASSERT_EQ(estimates.size(), 60u);
+
+  // Associating twice gives the same window and records nothing.
+  WindowProblem again = problem;
+  const int associations = AssociateWindowPlanes(problem, estimates, options, planes);
+  EXPECT_EQ(AssociateWindowPlanes(again, estimates, options, planes), associations);
+  EXPECT_GT(associations, 50);
+  ASSERT_EQ(problem.planes.size(), 1u);
+  EXPECT_EQ(planes.health(7).points, 0);
+
+  // Records that are discarded (the window was moved before use) never reach the statistics.
+  RecordWindow(problem, estimates, planes);
+  planes.CloseRecords();
+  planes.DiscardRecords();
+  planes.UpdateHealth(associations);
+  EXPECT_EQ(planes.health(7).points, 0);
+
+  // Committed records do, with each point's signed distance from the wall.
+  RecordWindow(problem, estimates, planes);
+  planes.FinishRecords();
+  planes.UpdateHealth(associations);
+  // 59 of the 60 measured (one point's sigma along the normal is beyond statsMaxPointSigma).
+  EXPECT_GE(planes.health(7).points, 55);
+  EXPECT_NEAR(planes.health(7).median, -0.05, 0.01);
+}
 
 }  // namespace
 }  // namespace planeloc
