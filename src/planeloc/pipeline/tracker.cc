@@ -66,10 +66,9 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
     options_.ba.lambda = 1.0;  // nothing to weigh the reprojection against
   }
   if (!options_.deterministic) {
-    ba_worker_ =
-        std::make_unique<JobWorker<BaJob>>([camera = camera_, options = options_.ba](BaJob& job) {
-          SolveBaJob(camera, options, job);
-        });
+    ba_scheduler_ = std::make_unique<BaScheduler>(
+        [camera = camera_, options = options_.ba](BaJob& job) { SolveBaJob(camera, options, job); },
+        options_.ba_max_lag_frames);
   }
 }
 
@@ -185,13 +184,9 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
 }
 
 void Tracker::CatchUpWithWorkers(FrameStats& stats, Clock::time_point track_start) {
-  const bool ba_overdue = ba_submitted_frame_ && options_.ba_max_lag_frames > 0 &&
-                          stats.frame - *ba_submitted_frame_ >= options_.ba_max_lag_frames;
+  const bool ba_overdue = ba_scheduler_ && ba_scheduler_->Overdue(stats.frame);
   ApplyBaResults(stats, /*wait=*/ba_overdue);
-  if (ba_overdue) {
-    ba_submitted_frame_.reset();  // also when the worker had no result to give
-    stats.ms_ba += MillisecondsSince(track_start);
-  }
+  if (ba_overdue) stats.ms_ba += MillisecondsSince(track_start);
   ApplyLockResults(stats, nullptr, /*wait=*/false);
   SubmitDeferredBa(stats);
   if (planes_) stats.map_lock = MapLockName(map_lock());
@@ -239,9 +234,7 @@ bool Tracker::NeedKeyframe(const Frame& frame, int inliers) const {
   return DecideKeyframe(input, rule).insert;
 }
 
-bool Tracker::MappingIdle() const {
-  return !ba_worker_ || (!deferred_ba_keyframe_ && ba_worker_->Idle());
-}
+bool Tracker::MappingIdle() const { return !ba_scheduler_ || ba_scheduler_->Idle(); }
 
 void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
   const auto start = Clock::now();
@@ -286,14 +279,16 @@ void Tracker::InsertKeyframe(Frame& frame, FrameStats& stats) {
         planes_->CheckKeyframe(kf_id, frame.cam_from_world, camera_, left_pyramid_);
   }
   ++ba_counts_.keyframes;
-  if (ba_worker_) {
-    if (MappingIdle()) {
-      SubmitBa(kf_id, stats, &frame);
-    } else {
-      // The worker is busy: this keyframe's window is built once the running BA has been applied.
-      // A keyframe still waiting is superseded (its neighbourhood is in the new window).
-      if (deferred_ba_keyframe_) ++ba_counts_.superseded;
-      deferred_ba_keyframe_ = kf_id;
+  if (ba_scheduler_) {
+    switch (ba_scheduler_->Admit(kf_id)) {
+      case BaScheduler::Admission::kSubmitNow:
+        SubmitBa(kf_id, stats, &frame);
+        break;
+      case BaScheduler::Admission::kDeferredSuperseding:
+        ++ba_counts_.superseded;
+        break;
+      case BaScheduler::Admission::kDeferred:
+        break;
     }
   } else if (std::optional<BaJob> job = MakeBaJob(kf_id, stats, &frame)) {
     SolveBaJob(camera_, options_.ba, *job);
@@ -326,7 +321,7 @@ void Tracker::MaintainMap(int keyframe_id) {
   // A keyframe whose BA still has to be built must exist then; the tracker's reference keyframe
   // re-anchors the last frame after every BA.
   std::set<int> keep = {keyframe_id};
-  if (deferred_ba_keyframe_) keep.insert(*deferred_ba_keyframe_);
+  if (ba_scheduler_ && ba_scheduler_->deferred()) keep.insert(*ba_scheduler_->deferred());
   if (reference_keyframe_id_ >= 0) keep.insert(reference_keyframe_id_);
   if (maintenance.cull_keyframes) {
     ba_counts_.culled_keyframes += static_cast<int>(
@@ -403,7 +398,6 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
     return std::nullopt;
   }
   job.snapshot = SnapshotWindow(map_, job.problem);
-  job.correction_epoch = correction_epoch_;
   return job;
 }
 
@@ -411,17 +405,14 @@ void Tracker::SubmitBa(int keyframe_id, FrameStats& stats, Frame* current) {
   std::optional<BaJob> job = MakeBaJob(keyframe_id, stats, current);
   // MappingIdle() held: the worker accepts the job.
   if (!job) return;
-  if (ba_worker_->Submit(std::move(*job))) {
-    ba_submitted_frame_ = stats.frame;
-  } else {
-    ++ba_counts_.superseded;
-  }
+  if (!ba_scheduler_->Submit(std::move(*job), stats.frame)) ++ba_counts_.superseded;
 }
 
 void Tracker::SubmitDeferredBa(FrameStats& stats) {
-  if (!ba_worker_ || !deferred_ba_keyframe_ || !ba_worker_->Idle()) return;
-  const int keyframe_id = *deferred_ba_keyframe_;
-  deferred_ba_keyframe_.reset();
+  if (!ba_scheduler_) return;
+  const std::optional<int> deferred = ba_scheduler_->TakeDeferredWhenIdle();
+  if (!deferred) return;
+  const int keyframe_id = *deferred;
   if (!map_.HasKeyframe(keyframe_id)) {
     ++ba_counts_.empty;
     return;
@@ -432,11 +423,10 @@ void Tracker::SubmitDeferredBa(FrameStats& stats) {
 }
 
 void Tracker::ApplyBaResults(FrameStats& stats, bool wait) {
-  if (!ba_worker_) return;
-  std::optional<BaJob> job = wait ? ba_worker_->WaitResult() : ba_worker_->TakeResult();
+  if (!ba_scheduler_) return;
+  std::optional<BaJob> job = ba_scheduler_->TakeResult(wait);
   if (!job) return;
-  ba_submitted_frame_.reset();
-  if (job->correction_epoch != correction_epoch_) {
+  if (!ba_scheduler_->Current(*job)) {
     // Solved in the frame before a map-lock correction: applying it would undo the correction.
     stats.ba_discarded = true;
     ++ba_counts_.discarded;
@@ -519,7 +509,7 @@ void Tracker::MoveSegment(const MapCorrection& correction, Frame* current) {
   // Velocity and pose relative to the reference keyframe are frame-free: they stay.
   if (last_frame_) last_frame_->cam_from_world = last_frame_->cam_from_world * world_from_map;
   if (current) current->cam_from_world = current->cam_from_world * world_from_map;
-  ++correction_epoch_;
+  if (ba_scheduler_) ba_scheduler_->OnCorrection();
 }
 
 void Tracker::LockBookkeeping(const MapCorrection& correction, int frame_id) {

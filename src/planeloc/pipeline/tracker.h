@@ -6,11 +6,10 @@
 // keyframe decision -> (keyframe) new stereo points, point culling, local window BA.
 // On loss the tracker re-initializes from the frame's stereo at the predicted pose and goes on.
 //
-// Threads: feature extraction uses TBB inside features/; the local BA runs on a BaWorker
-// thread, or in line when options.deterministic (bit-identical runs). With the worker, a
-// keyframe inserted while a BA runs gets its BA when the running one has been applied (only the
-// newest such keyframe: an older one is counted as superseded), and a result applies only to the
-// keyframes and points that were not moved since its window was built (BaCounts).
+// Threads: feature extraction uses TBB inside features/; the local BA runs on a worker thread
+// scheduled by a BaScheduler (deferral, lag bound, stale results), or in line when
+// options.deterministic (bit-identical runs). A result applies only to the keyframes and points
+// that were not moved since its window was built (BaCounts).
 #pragma once
 
 #include <chrono>
@@ -25,6 +24,7 @@
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/pipeline/ba_job.h"
+#include "planeloc/pipeline/ba_scheduler.h"
 #include "planeloc/pipeline/frame_stats.h"
 #include "planeloc/pipeline/job_worker.h"
 #include "planeloc/pipeline/settings.h"
@@ -132,15 +132,13 @@ class Tracker {
   std::unique_ptr<PlaneAssociator> planes_;
   OrbExtractor extractor_;
   SparseMap map_;
-  std::unique_ptr<JobWorker<BaJob>> ba_worker_;  // threaded mode
-  std::unique_ptr<MapLocker> locker_;            // with a plane map
+  std::unique_ptr<BaScheduler> ba_scheduler_;  // threaded mode
+  std::unique_ptr<MapLocker> locker_;          // with a plane map
   // Threaded mode with a plane map: runs the locker's registrations. In line (deterministic), a
   // finished registration waits in inline_registration_ until applied.
   std::unique_ptr<JobWorker<RegistrationJob>> registration_worker_;
   std::optional<RegistrationJob> inline_registration_;
   std::vector<LockEvent> lock_events_;
-  // Corrections applied so far; a BA result computed before the latest one is dropped.
-  int correction_epoch_ = 0;
   // The trajectory offset the planes agreed on in the previous window (Planes.
   // trajectoryConsensus), and the corrections it caused.
   std::optional<Eigen::Vector3d> previous_consensus_;
@@ -149,10 +147,6 @@ class Tracker {
   int settle_until_keyframe_id_ = -1;
   // After a full lock: the next window spans the segment with every keyframe free.
   bool lock_window_pending_ = false;
-  // Keyframe whose BA waits for the worker (threaded mode).
-  std::optional<int> deferred_ba_keyframe_;
-  // Threaded: the frame at which the BA now on the worker was submitted (LocalBA.maxLagFrames).
-  std::optional<int> ba_submitted_frame_;
   BaCounts ba_counts_;
   Rigid3d cam_from_world_initial_;
 
