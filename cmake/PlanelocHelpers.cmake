@@ -67,7 +67,8 @@ function(planeloc_module)
   endif()
   if(PLANELOC_BUILD_TESTS AND tests)
     add_executable(${target}_test ${tests})
-    target_link_libraries(${target}_test PRIVATE ${target} ${ARG_TEST_DEPS} GTest::gtest GTest::gtest_main)
+    target_link_libraries(${target}_test PRIVATE ${target} ${ARG_TEST_DEPS} GTest::gtest
+                          planeloc_test_main)
     target_compile_definitions(${target}_test PRIVATE
       PLANELOC_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
     planeloc_compile_flags(${target}_test)
