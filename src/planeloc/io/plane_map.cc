@@ -33,6 +33,10 @@ class PlaneReader {
   void Fail(const std::string& what) const {
     throw InputError(path_, fmt::format("{}: {}", where_, what), kSchemaFix);
   }
+  // Fail with a line (0: unknown).
+  void FailAt(int line, const std::string& what, const std::string& fix) const {
+    throw InputError(path_, line, fmt::format("{}: {}", where_, what), fix);
+  }
 
   double Number(const json& value, const std::string& field) const {
     if (!value.is_number()) Fail(fmt::format("`{}` is not a number", field));
@@ -90,7 +94,66 @@ class PlaneReader {
   std::string where_;
 };
 
-MapPlane ReadMapPlane(const std::string& path, const json& object, std::size_t index) {
+// 1-based line of a byte offset, for JSON syntax errors.
+int LineOfByte(const std::string& text, std::size_t byte) {
+  const auto end = text.begin() + static_cast<std::ptrdiff_t>(std::min(byte, text.size()));
+  return 1 + static_cast<int>(std::count(text.begin(), end, '\n'));
+}
+
+// Line (1-based) of the `occurrence`-th (0-based) appearance of "key" in the text, 0 if none:
+// points a message at a plane's field in a file written one field per line.
+int LineOfKey(const std::string& text, const std::string& key, std::size_t occurrence) {
+  const std::string quoted = "\"" + key + "\"";
+  std::size_t at = text.find(quoted);
+  for (std::size_t k = 0; k < occurrence && at != std::string::npos; ++k) {
+    at = text.find(quoted, at + quoted.size());
+  }
+  return at == std::string::npos ? 0 : LineOfByte(text, at);
+}
+
+// A plane's "sigma" object: positive finite offset and normal sigmas, a unit major axis in the
+// plane.
+PlaneSigma ReadSigma(const PlaneReader& reader, const Eigen::Vector3d& normal, int line) {
+  const char* fix =
+      "sigma is {\"offset\": metres > 0, \"normal\": [radians > 0, radians > 0], "
+      "\"major_axis\": unit vector in the plane}; regenerate with `planeloc map planes`";
+  const auto fail = [&](const std::string& what) { reader.FailAt(line, what, fix); };
+  const auto positive = [&](const json& value, const std::string& field) {
+    if (!value.is_number()) fail(fmt::format("`{}` is not a number", field));
+    const double number = value.get<double>();
+    if (!(std::isfinite(number) && number > 0)) {
+      fail(fmt::format("`{}` is {}, must be positive and finite", field, number));
+    }
+    return number;
+  };
+  const json& object = reader["sigma"];
+  if (!object.is_object()) fail("`sigma` is not an object");
+  for (const char* field : {"offset", "normal", "major_axis"}) {
+    if (!object.contains(field)) fail(fmt::format("`sigma` has no `{}`", field));
+  }
+  PlaneSigma sigma;
+  sigma.offset = positive(object["offset"], "sigma.offset");
+  const json& tilt = object["normal"];
+  if (!tilt.is_array() || tilt.size() != 2) fail("`sigma.normal` must be an array of 2 numbers");
+  sigma.normal =
+      Eigen::Vector2d(positive(tilt[0], "sigma.normal"), positive(tilt[1], "sigma.normal"));
+  const json& axis = object["major_axis"];
+  if (!axis.is_array() || axis.size() != 3 || !axis[0].is_number() || !axis[1].is_number() ||
+      !axis[2].is_number()) {
+    fail("`sigma.major_axis` must be an array of 3 numbers");
+  }
+  sigma.major_axis =
+      Eigen::Vector3d(axis[0].get<double>(), axis[1].get<double>(), axis[2].get<double>());
+  if (!sigma.major_axis.allFinite() || std::abs(sigma.major_axis.norm() - 1.0) > kNormalTolerance ||
+      std::abs(sigma.major_axis.dot(normal)) > kNormalTolerance) {
+    fail("`sigma.major_axis` must be a unit vector in the plane (perpendicular to normal)");
+  }
+  return sigma;
+}
+
+// sigmas_before: how many planes before this one have a sigma (to find its line in `text`).
+MapPlane ReadMapPlane(const std::string& path, const std::string& text, const json& object,
+                      std::size_t index, std::size_t sigmas_before) {
   const PlaneReader reader(path, object, fmt::format("plane {} (0-based)", index));
   if (!object.is_object()) reader.Fail("is not a JSON object");
   MapPlane plane;
@@ -113,13 +176,37 @@ MapPlane ReadMapPlane(const std::string& path, const json& object, std::size_t i
       plane.polygon.push_back(reader.Vector(vertex, "polygon vertex"));
     }
   }
+  if (reader.Has("sigma")) {
+    plane.sigma =
+        ReadSigma(reader, plane.plane_in_map.normal, LineOfKey(text, "sigma", sigmas_before));
+  }
   return plane;
 }
 
-// 1-based line of a byte offset, for JSON syntax errors.
-int LineOfByte(const std::string& text, std::size_t byte) {
-  const auto end = text.begin() + static_cast<std::ptrdiff_t>(std::min(byte, text.size()));
-  return 1 + static_cast<int>(std::count(text.begin(), end, '\n'));
+// Every plane has a sigma or none has (then the defaults, and sigma_defaulted); a plane without
+// one among planes with one is an error naming it and its line.
+void CheckOrDefaultSigmas(const std::string& path, const std::string& text, PlaneMap& map) {
+  std::size_t with_sigma = 0;
+  for (const MapPlane& plane : map.planes) with_sigma += plane.sigma.known();
+  if (with_sigma == map.planes.size()) return;
+  if (with_sigma == 0) {
+    for (MapPlane& plane : map.planes) {
+      const Eigen::Vector3d& n = plane.plane_in_map.normal;
+      plane.sigma.offset = kDefaultPlaneOffsetSigma;
+      plane.sigma.normal.setConstant(kDefaultPlaneNormalSigma);
+      plane.sigma.major_axis = n.unitOrthogonal();
+    }
+    map.sigma_defaulted = !map.planes.empty();
+    return;
+  }
+  for (std::size_t i = 0; i < map.planes.size(); ++i) {
+    if (map.planes[i].sigma.known()) continue;
+    throw InputError(
+        path, LineOfKey(text, "id", i),
+        fmt::format("plane {} (0-based, id {}) has no `sigma` while {} of the {} planes have one",
+                    i, map.planes[i].id, with_sigma, map.planes.size()),
+        "give every plane a sigma (regenerate with `planeloc map planes`) or none (the defaults)");
+  }
 }
 
 json VectorJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
@@ -168,12 +255,15 @@ PlaneMap ReadPlaneMap(const std::filesystem::path& path) {
              path.string(), 0, "no `planes` array at the top level", kSchemaFix);
   PlaneMap map;
   std::set<int> ids;
+  std::size_t sigmas = 0;
   for (std::size_t i = 0; i < document["planes"].size(); ++i) {
-    map.planes.push_back(ReadMapPlane(path.string(), document["planes"][i], i));
+    map.planes.push_back(ReadMapPlane(path.string(), text, document["planes"][i], i, sigmas));
+    sigmas += map.planes.back().sigma.known();
     CheckInput(ids.insert(map.planes.back().id).second, path.string(), 0,
                fmt::format("plane {} (0-based) repeats id {}", i, map.planes.back().id),
                "plane ids must be unique");
   }
+  CheckOrDefaultSigmas(path.string(), text, map);
   if (document.contains("stats") && !document["stats"].is_null()) {
     CheckInput(document["stats"].is_object(), path.string(), 0, "`stats` is not an object",
                kSchemaFix);
@@ -200,6 +290,12 @@ void WritePlaneMap(const std::filesystem::path& path, const PlaneMap& map) {
                       {"rms", plane.rms},
                       {"area", plane.area},
                       {"polygon", polygon}});
+    if (plane.sigma.known()) {
+      planes.back()["sigma"] = {
+          {"offset", plane.sigma.offset},
+          {"normal", json::array({plane.sigma.normal.x(), plane.sigma.normal.y()})},
+          {"major_axis", VectorJson(plane.sigma.major_axis)}};
+    }
   }
   json document = {{"planes", planes}, {"stats", map.stats}};
   if (map.frame.known()) {

@@ -1,6 +1,7 @@
 // The plane map: planes extracted from a LiDAR map, as stored in planes.json:
 //   {"planes":[{"id":int,"normal":[nx,ny,nz],"d":float,"centroid":[..],"inliers":int,"rms":float,
-//               "area":float,"polygon":[[x,y,z],...]}], "stats":{...},
+//               "area":float,"polygon":[[x,y,z],...],
+//               "sigma":{"offset":m,"normal":[rad,rad],"major_axis":[x,y,z]}}], "stats":{...},
 //    "frame":{"name":str,"map":str,"up":[ux,uy,uz],"up_source":"given"|"detected"}}
 // with n . x + d = 0, |n| = 1, all in map coordinates: the frame of the point cloud the planes were
 // extracted from. "frame" is optional (files written before issue 17 have none). The simulator's
@@ -16,6 +17,22 @@
 
 namespace planeloc {
 
+// How well the map knows a plane (map planes, docs/map.md "Plane uncertainty"): the standard
+// deviation of its offset along the normal at the centroid, and of its normal as small rotations
+// about `major_axis` (the inliers' longest in-plane direction) and about n x major_axis.
+struct PlaneSigma {
+  double offset = 0;                                     // metres
+  Eigen::Vector2d normal = Eigen::Vector2d::Zero();      // radians: about major_axis, about n x it
+  Eigen::Vector3d major_axis = Eigen::Vector3d::Zero();  // unit, in the plane
+
+  bool known() const { return offset > 0; }
+};
+// The sigma of a plane in a file written without one (before issue 32): the former global
+// Planes.mapSigma for the offset, and 0.2 deg for the normal (a registration's rotation error,
+// docs/map.md). major_axis is then any in-plane unit vector.
+constexpr double kDefaultPlaneOffsetSigma = 0.05;    // metres
+constexpr double kDefaultPlaneNormalSigma = 0.0035;  // radians (0.2 deg)
+
 struct MapPlane {
   int id = 0;
   Plane plane_in_map;
@@ -25,6 +42,7 @@ struct MapPlane {
   double rms = 0.0;                      // metres, RMS point-to-plane distance of the inliers
   double area = 0.0;                     // square metres of the polygon
   std::vector<Eigen::Vector3d> polygon;  // outline in map coordinates, on the plane
+  PlaneSigma sigma;                      // the map's own uncertainty of the plane
 };
 
 // The frame the planes are expressed in: the frame of the LiDAR map they were extracted from
@@ -43,9 +61,13 @@ struct PlaneMap {
   nlohmann::json stats = nlohmann::json::object();
   PlaneMapFrame frame;           // not known() for files without "frame"
   std::filesystem::path source;  // the file ReadPlaneMap read it from (for messages); not written
+  // True when the file had no per-plane sigma and every plane got the default (kDefault...).
+  bool sigma_defaulted = false;
 };
 
-// Throws InputError naming the file (and the plane index) on a malformed document.
+// Throws InputError naming the file (and the plane index) on a malformed document. A sigma that
+// is not positive and finite, or present on some planes and missing on others, is an error naming
+// the plane and its line; a file with no sigma at all gets the defaults (sigma_defaulted).
 PlaneMap ReadPlaneMap(const std::filesystem::path& path);
 void WritePlaneMap(const std::filesystem::path& path, const PlaneMap& map);
 

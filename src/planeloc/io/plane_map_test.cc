@@ -29,6 +29,12 @@ PlaneMap ExampleMap() {
   facade.id = 7;
   facade.kind = "facade";
   facade.plane_in_map = Plane(Eigen::Vector3d(1, 0, 0.1), -6.0 / 3.0);
+  ground.sigma.offset = 0.0123;
+  ground.sigma.normal = Eigen::Vector2d(1.5e-4, 3.25e-3);
+  ground.sigma.major_axis = ground.plane_in_map.normal.unitOrthogonal();
+  facade.sigma.offset = 0.031;
+  facade.sigma.normal = Eigen::Vector2d(2e-3, 7e-4);
+  facade.sigma.major_axis = facade.plane_in_map.normal.cross(Eigen::Vector3d::UnitY()).normalized();
   map.planes = {ground, facade};
   map.stats = {{"planes", 2}, {"seconds", 1.25}};
   return map;
@@ -52,7 +58,11 @@ TEST(PlaneMap, RoundTripIsExact) {
     EXPECT_EQ(a.rms, b.rms);
     EXPECT_EQ(a.area, b.area);
     EXPECT_EQ(a.polygon, b.polygon);
+    EXPECT_EQ(a.sigma.offset, b.sigma.offset);
+    EXPECT_EQ(a.sigma.normal, b.sigma.normal);
+    EXPECT_EQ(a.sigma.major_axis, b.sigma.major_axis);
   }
+  EXPECT_FALSE(copy.sigma_defaulted);
   EXPECT_EQ(copy.stats, map.stats);
   EXPECT_FALSE(copy.frame.known());  // none written
 }
@@ -92,6 +102,22 @@ TEST(PlaneMap, MissingOptionalFieldsDefault) {
   EXPECT_TRUE(map.planes[0].polygon.empty());
   EXPECT_EQ(map.planes[0].plane_in_map.d, -2.5);
   EXPECT_TRUE(map.stats.is_object() && map.stats.empty());
+}
+
+TEST(PlaneMap, FileWithoutSigmaGetsTheDocumentedDefault) {
+  TempDir dir;
+  WriteText(dir.path() / "old.json",
+            R"({"planes":[{"normal":[0,0,1],"d":-2.5},{"id":9,"normal":[0,0.6,0.8],"d":1}]})");
+  const PlaneMap map = ReadPlaneMap(dir.path() / "old.json");
+  EXPECT_TRUE(map.sigma_defaulted);
+  for (const MapPlane& plane : map.planes) {
+    EXPECT_EQ(plane.sigma.offset, 0.05);                             // docs/map.md
+    EXPECT_EQ(plane.sigma.normal, Eigen::Vector2d(0.0035, 0.0035));  // 0.2 deg
+    EXPECT_NEAR(plane.sigma.major_axis.norm(), 1.0, 1e-12);
+    EXPECT_NEAR(plane.sigma.major_axis.dot(plane.plane_in_map.normal), 0.0, 1e-12);
+  }
+  WriteText(dir.path() / "empty.json", R"({"planes":[]})");
+  EXPECT_FALSE(ReadPlaneMap(dir.path() / "empty.json").sigma_defaulted);
 }
 
 TEST(PlaneMap, NearlyUnitNormalIsNormalizedWithItsOffset) {
@@ -136,6 +162,41 @@ TEST(PlaneMapBadInput, EachMalformedDocumentIsNamed) {
   ExpectBad(R"({"planes":[],"frame":{"name":3}})", "frame: `name` is not a string");
   ExpectBad(R"([1,2])", "no `planes` array");
   EXPECT_EQ(ExpectBad("{\n\"planes\": [\n{\"normal\": [0,0,1],, \"d\": 1}\n]}", "invalid JSON"), 3);
+}
+
+// A plane written one field per line, with `sigma_json` (empty: none) as its sigma.
+std::string PlaneLines(int id, const std::string& sigma_json) {
+  std::string text = "{\n\"id\": " + std::to_string(id) + ",\n\"normal\": [0, 0, 1],\n\"d\": 1";
+  if (!sigma_json.empty()) text += ",\n\"sigma\": " + sigma_json;
+  return text + "\n}";
+}
+
+TEST(PlaneMapBadInput, EachBadSigmaIsNamedWithItsPlaneAndLine) {
+  const std::string good = R"({"offset": 0.02, "normal": [0.001, 0.002], "major_axis": [1, 0, 0]})";
+  const auto file = [&](const std::string& second) {
+    return "{\"planes\": [\n" + PlaneLines(4, good) + ",\n" + PlaneLines(5, second) + "\n]}";
+  };
+  // Line 1: "planes"; lines 2-7: the first plane; the second plane's "id" is on line 9 and its
+  // "sigma" on line 12.
+  EXPECT_EQ(ExpectBad(file(R"({"offset": 0, "normal": [0.001, 0.002], "major_axis": [1, 0, 0]})"),
+                      "plane 1 (0-based): `sigma.offset` is 0, must be positive"),
+            12);
+  EXPECT_EQ(ExpectBad(file(R"({"offset": 0.1, "normal": [-0.001, 0.002], "major_axis": [1,0,0]})"),
+                      "`sigma.normal` is -0.001"),
+            12);
+  // nlohmann::json writes a NaN as null.
+  EXPECT_EQ(ExpectBad(file(R"({"offset": null, "normal": [0.001, 0.002], "major_axis": [1,0,0]})"),
+                      "`sigma.offset` is not a number"),
+            12);
+  ExpectBad(file(R"({"offset": 0.1, "normal": [0.001], "major_axis": [1, 0, 0]})"),
+            "array of 2 numbers");
+  ExpectBad(file(R"({"offset": 0.1, "normal": [0.001, 0.002], "major_axis": [0, 0, 1]})"),
+            "unit vector in the plane");
+  ExpectBad(file(R"({"offset": 0.1, "normal": [0.001, 0.002], "major_axis": [2, 0, 0]})"),
+            "unit vector in the plane");
+  ExpectBad(file(R"({"offset": 0.1, "normal": [0.001, 0.002]})"), "`sigma` has no `major_axis`");
+  // Present on one plane, missing on the other: the plane without one, at its "id" line.
+  EXPECT_EQ(ExpectBad(file(""), "plane 1 (0-based, id 5) has no `sigma` while 1 of the 2"), 9);
 }
 
 TEST(PlaneMapBadInput, MissingFile) {

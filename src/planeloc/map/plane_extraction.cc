@@ -10,6 +10,7 @@
 #include <optional>
 #include <random>
 
+#include "planeloc/map/plane_uncertainty.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
@@ -262,6 +263,8 @@ bool Describe(const std::vector<Eigen::Vector3d>& points, const Patch& patch,
   out.inliers = static_cast<int>(patch.points.size());
   out.rms = patch.rms;
   out.kind = PlaneKind(n, up, options.kind_angle_deg);
+  const PlaneSpread spread = MeasurePlaneSpread(points, patch.points, out.plane_in_map);
+  out.sigma = PlaneSigmaFromSpread(spread);
   return true;
 }
 

@@ -11,6 +11,7 @@
 
 #include "planeloc/map/plane_extraction.h"
 #include "planeloc/map/plane_outline.h"
+#include "planeloc/map/plane_uncertainty.h"
 
 namespace planeloc {
 namespace {
@@ -183,6 +184,11 @@ bool DescribeGroup(const std::vector<const TilePiece*>& group,
   out.centroid = centroid;
   out.inliers = static_cast<int>(count);
   out.rms = rms;
+  std::vector<Eigen::Vector3d> samples;
+  for (const TilePiece* p : group)
+    samples.insert(samples.end(), p->samples.begin(), p->samples.end());
+  out.sigma = PlaneSigmaFromSpread(
+      MeasureSampledPlaneSpread(samples, out.inliers, out.rms, out.plane_in_map));
   return true;
 }
 

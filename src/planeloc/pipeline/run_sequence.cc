@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -246,6 +247,14 @@ std::optional<PlaneMap> ReadRunPlaneMap(const RunOptions& run) {
     if (plane_map->planes.empty()) {
       spdlog::warn("{}: the plane map has no planes; the run is visual odometry only",
                    run.planes_path->string());
+    }
+    if (plane_map->sigma_defaulted) {
+      spdlog::warn(
+          "{}: no per-plane sigma (written before `map planes` wrote them); every plane gets the "
+          "default, {} m in offset and {:.2f} deg in normal (docs/map.md, \"Plane uncertainty\"); "
+          "regenerate it with `planeloc map planes` for the map's own",
+          run.planes_path->string(), kDefaultPlaneOffsetSigma,
+          kDefaultPlaneNormalSigma * 180.0 / std::numbers::pi);
     }
     // The plane map's frame is the world frame of the run: the initial pose must be given in it.
     const PlaneMapFrame& frame = plane_map->frame;
