@@ -207,6 +207,7 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
   planes.frame.up_source = output.extraction.up_detected ? "detected" : "given";
   spdlog::info("map planes: tensor voting {:.2f} s, plane extraction {:.2f} s, {} planes",
                output.voting_seconds, output.extraction_seconds, planes.planes.size());
+  RequirePlanarStructure(planes, args.map, map.size(), options);
   if (!args.gt.empty()) {
     // Ground truth (the simulator's world/planes_gt.json): issue 4's acceptance numbers, logged
     // and stored in the stats of planes.json.

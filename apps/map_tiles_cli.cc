@@ -17,6 +17,7 @@
 #include "planeloc/io/plane_map.h"
 #include "planeloc/io/point_cloud.h"
 #include "planeloc/io/trajectory.h"
+#include "planeloc/map/map_planes.h"
 #include "planeloc/map/plane_map_eval.h"
 #include "planeloc/map/plane_merge.h"
 #include "planeloc/map/tile_planes.h"
@@ -119,8 +120,14 @@ TilePlanes ProcessTile(const TileIndex& index, const TileEntry& entry,
     PointCloudReadOptions read_options;
     read_options.voxel_size = options.EffectiveVoxelSize();
     const PointCloud tile = ReadPointCloud(path, read_options);
-    TilePlanes result =
-        ExtractTilePlanes(tile, entry.key, TileGrid(index.tiling), options, gt, eval_options);
+    const TileGrid grid(index.tiling);
+    const std::size_t outside = CountOutsideTileBox(grid, entry.key, tile.points);
+    CheckInput(outside == 0, path.string(), 0,
+               fmt::format("{} of its {} points lie outside the box of tile [{}, {}], the key "
+                           "index.json gives it (the index and the tiles do not belong together)",
+                           outside, tile.size(), entry.key[0], entry.key[1]),
+               "re-create the tiles with `planeloc map tile`");
+    TilePlanes result = ExtractTilePlanes(tile, entry.key, grid, options, gt, eval_options);
     result.file = path.string();
     return result;
   } catch (const std::exception& e) {  // reported by rank 0 with the tile
@@ -182,6 +189,7 @@ int MergeAndWrite(const TiledPlanesArgs& args, const MapPlanesOptions& options,
       "[{:.3f}, {:.3f}, {:.3f}] ({})",
       tiles.size(), planes.planes.size(), planes.stats["joined_groups"].get<int>(), merged.up.x(),
       merged.up.y(), merged.up.z(), planes.frame.up_source);
+  RequirePlanarStructure(planes, args.tiles, index.points, options);
   if (gt) {
     const PlaneMapEvaluation evaluation =
         FinishPlaneMapEvaluation(MergeTileTallies(tiles, merged), planes, *gt, eval_options);

@@ -429,6 +429,35 @@ printf '1 2 3\n' >"$work/cloud.las"
 cloud_case cloud.las "$work/cloud.las"
 expect 2 "$work/none.pcd" "map planes missing map" "$work/p.json" -- \
   "$planeloc" map planes --map "$work/none.pcd" --out "$work/p.json"
+# Readable clouds without a plane (issue 37): one point repeated, and a plane scaled x 1e6 (a map
+# in micrometres): no plane map is written.
+awk 'BEGIN { for (i = 0; i < 3000; ++i) print "1.5 2.5 3.5" }' >"$work/identical.xyz"
+cloud_case identical.xyz "$work/identical.xyz: no planar structure"
+awk 'BEGIN { for (i = 0; i < 60; ++i) for (j = 0; j < 60; ++j) print i * 2e5, j * 2e5, (i * j % 7) * 1e3 }' \
+  >"$work/scaled.xyz"
+cloud_case scaled.xyz "$work/scaled.xyz: no planar structure"
+
+# Tile indexes (issue 37): tiles of cloud.xyz 4 m wide, then one index changed per case.
+"$planeloc" map tile --map "$work/cloud.xyz" --out "$work/tiles" --tile-size 4 --overlap 1 \
+  >/dev/null 2>&1
+tiles_case() {  # NAME NEEDLE PYTHON (edits the index's dict `d`)
+  rm -rf "$work/tiles_$1"
+  cp -r "$work/tiles" "$work/tiles_$1"
+  /usr/bin/python3 - "$work/tiles_$1/index.json" "$3" <<'PY'
+import json, sys
+path, edit = sys.argv[1], sys.argv[2]
+d = json.load(open(path))
+exec(edit)
+json.dump(d, open(path, "w"), indent=1)
+PY
+  expect 2 "$2" "map planes --tiles $1" "$work/p.json" -- \
+    "$planeloc" map planes --tiles "$work/tiles_$1" --out "$work/p.json"
+}
+tiles_case duplicate "listed twice" 'd["tiles"].append(dict(d["tiles"][0]))'
+tiles_case swapped "outside the box of tile" \
+  't = d["tiles"]; t[0]["file"], t[-1]["file"] = t[-1]["file"], t[0]["file"]'
+tiles_case empty "lists no tiles" 'd["tiles"] = []'
+tiles_case outside "not a file of the tiles folder" 'd["tiles"][0]["file"] = "../tiles/" + d["tiles"][0]["file"]'
 
 # ---------------------------------------------------------------------------------------------
 next_class "plane maps"
@@ -455,6 +484,16 @@ planes_case negative_area "$work/negative_area.json" "{\"planes\": [{$P, \"norma
 planes_case frame_up "$work/frame_up.json" "{\"planes\": [], \"frame\": {\"name\": \"map\", \"up\": [0, 0, 3]}}"
 planes_case frame_name "$work/frame_name.json" "{\"planes\": [], \"frame\": {\"name\": 7}}"
 planes_case plane_not_object "$work/plane_not_object.json" '{"planes": [3]}'
+# Per-plane sigma (issue 32): zero, NaN (null), and present on one plane only; plane and line.
+S='"sigma": {"offset": 0.02, "normal": [0.001, 0.002], "major_axis": [1, 0, 0]}'
+planes_case sigma_zero "$work/sigma_zero.json:2:" \
+  $'{"planes": [\n{"id": 0, "normal": [0, 1, 0], "d": 1, "sigma": {"offset": 0, "normal": [0.001, 0.002], "major_axis": [1, 0, 0]}}]}'
+planes_case sigma_null "$work/sigma_null.json:2:" \
+  $'{"planes": [\n{"id": 0, "normal": [0, 1, 0], "d": 1, "sigma": {"offset": null, "normal": [0.001, 0.002], "major_axis": [1, 0, 0]}}]}'
+planes_case sigma_partial "$work/sigma_partial.json:3:" \
+  "{\"planes\": [
+{\"id\": 0, \"normal\": [0, 1, 0], \"d\": 1, $S},
+{\"id\": 1, \"normal\": [0, 1, 0], \"d\": 5}]}"
 expect 2 "$work/missing.json" "run missing plane map" "$work/t.txt" -- \
   "$planeloc" run --sequence "$seq" --planes "$work/missing.json" --out "$work/t.txt"
 printf '{"planes": [{"id": 0, "normal": [0, 5, 0], "d": 1}]}\n' >"$work/gt_bad.json"
@@ -630,6 +669,22 @@ fi
 # And the good runs produce complete files.
 expect 0 "" "map planes ok" "$work/p.json" "$work/p.ply" -- "${mp[@]}" --ply "$work/p.ply"
 expect 0 "" "eval ok" "$work/e.json" -- "${ev[@]}" --json "$work/e.json"
+
+# ---------------------------------------------------------------------------------------------
+next_class "reports"
+# The report pairs a run with the GT as `planeloc eval` does (issue 37: 8 GT poses for a longer
+# run gave an ATE over 8 frames, and a run cut short was marked "best" by --compare).
+"$planeloc" run --sequence "$seq" --init-pose-from "$poses" --no-planes --out "$work/rr.txt" \
+  --report-dir "$work/rr" >/dev/null 2>&1
+head -n 8 "$poses" >"$work/gt8.txt"
+expect 2 "$work/rr/trajectory.txt" "report --gt with 8 of 10 poses" "$work/r.html" -- \
+  "$planeloc" report --run "$work/rr" --gt "$work/gt8.txt" --out "$work/r.html"
+mirror "$work/rr" "$work/rr_cut"
+unlink_copy "$work/rr_cut/trajectory.txt"
+head -n 4 "$work/rr/trajectory.txt" >"$work/rr_cut/trajectory.txt"
+expect 2 "$work/rr_cut/trajectory.txt" "report --compare a run cut to 4 of 10 frames" \
+  "$work/r.html" -- "$planeloc" report --run "$work/rr" --compare "$work/rr_cut" --gt "$poses" \
+  --out "$work/r.html"
 
 # ---------------------------------------------------------------------------------------------
 next_class "real KITTI slices"

@@ -150,6 +150,7 @@ json PlanesJson(const PlaneMap& map) {
 
 struct LoadedRun {
   json data;
+  fs::path trajectory_path;
   PoseMatrices poses;
   std::optional<PlaneMap> planes;
   TrajectoryFormat format = TrajectoryFormat::kKitti;
@@ -272,6 +273,7 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
              fmt::format("{}: the report folder has no trajectory", flag),
              "pass a folder written by `planeloc run --report-dir`");
   run.poses = ReadPoses(trajectory, run.format);
+  run.trajectory_path = trajectory;
   if (fs::is_regular_file(dir / "planes.json", error))
     run.planes = ReadPlaneMap(dir / "planes.json");
   const std::string mode = meta.value("mode", run.planes ? "planes" : "vo");
@@ -431,6 +433,15 @@ json BuildReportData(const HtmlReportOptions& options) {
   }
   data["runs"] = json::array();
   for (LoadedRun& run : runs) {
+    // Pose k of the run and of the GT are the same frame, as `planeloc eval` pairs them: a run
+    // cut short, or the GT of other frames, would give an ATE over a different set of frames.
+    CheckInput(!gt || run.poses.size() == gt->poses.size(), run.trajectory_path.string(), 0,
+               fmt::format("{} poses against {} in the GT {}: the run and the GT must cover the "
+                           "same frames (planeloc eval refuses the same pair)",
+                           run.poses.size(), gt ? gt->poses.size() : 0,
+                           options.gt_path ? options.gt_path->string() : ""),
+               "pass the GT of the run's sequence (a run that stopped early has no report ATE; "
+               "evaluate its frames with `planeloc eval` on a GT cut to them)");
     if (gt) AddErrors(*gt, run.poses, up, &run.data);
     data["runs"].push_back(std::move(run.data));
   }

@@ -145,18 +145,25 @@ TEST_F(ReportFolderTest, ErrorsStatsAndTrackingSeries) {
   EXPECT_EQ(run["images"][0]["data"], "Zm9v");
 }
 
-TEST_F(ReportFolderTest, CompareRunShorterThanGtIsPairedOverItsFrames) {
+// Pose k of a run and of the GT are the same frame, as `planeloc eval` pairs them: a run cut
+// short (issue 37: 20 of 60 frames was accepted, and --compare marked it "best") or a GT of
+// fewer frames (8 poses for a 60-frame run gave an ATE over 8 frames) is an error.
+TEST_F(ReportFolderTest, RunAndGtOfDifferentLengthsAreRefusedAsEvalRefusesThem) {
   const fs::path vo = temp_.path() / "vo";
   fs::create_directories(vo);
   Write(vo / "trajectory.txt", KittiLines({{0, 0, 0}, {0, 0, 2.5}}));
   options_.compare_dir = vo;
-  const nlohmann::json data = BuildReportData(options_);
-  ASSERT_EQ(data["runs"].size(), 2u);
-  const nlohmann::json& run = data["runs"][1];
-  EXPECT_EQ(run["mode"], "vo");  // no run.json, no planes.json
-  EXPECT_EQ(run["errors"]["paired"], 2);
-  EXPECT_NEAR(run["errors"]["along"][1].get<double>(), 0.5, 1e-4);
-  EXPECT_TRUE(run["map_lock"].is_null());
+  try {
+    BuildReportData(options_);
+    ADD_FAILURE() << "a 2-pose run against a 4-pose GT was accepted";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.path(), (vo / "trajectory.txt").string());
+    EXPECT_NE(std::string(error.what()).find("2 poses against 4 in the GT"), std::string::npos)
+        << error.what();
+  }
+  options_.compare_dir.reset();
+  Write(temp_.path() / "gt.txt", KittiLines({{0, 0, 0}, {0, 0, 2}, {0, 0, 4}}));
+  EXPECT_THROW(BuildReportData(options_), InputError);
 }
 
 TEST_F(ReportFolderTest, PageInlinesThreeJsAndKeepsScriptsClosed) {

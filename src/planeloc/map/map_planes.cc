@@ -71,11 +71,21 @@ MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& opti
   // Points of the file when the map was voxel-filtered while reading (ReadPointCloud).
   stats["input_points"] = map.source_points > 0 ? map.source_points : map.size();
   stats["voxel_size"] = output.voxel_size;
-  if (output.extraction.plane_map.planes.empty()) {
-    spdlog::warn("map planes: no planar structure found in {} points; writing an empty plane map",
-                 map.size());
-  }
   return output;
+}
+
+void RequirePlanarStructure(const PlaneMap& planes, const std::string& map_path, std::size_t points,
+                            const MapPlanesOptions& options) {
+  if (!planes.planes.empty()) return;
+  const PlaneExtractionOptions& extraction = options.plane_extraction;
+  throw InputError(
+      map_path, 0,
+      fmt::format("no planar structure in {} points: no plane of at least {} inliers, {} m^2 and "
+                  "{} m across within {} m (the map has no surfaces, or is not in metres)",
+                  points, extraction.min_inliers, extraction.min_area, extraction.min_extent,
+                  extraction.inlier_distance),
+      "give a LiDAR map in metres that holds roads or walls; for a small or sparse map, lower "
+      "--sigma and --voxel (docs/map.md, \"Options file\")");
 }
 
 std::vector<Eigen::Vector3d> PlaneColors(const MapPlanesOutput& output) {

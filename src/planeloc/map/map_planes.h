@@ -26,8 +26,13 @@ struct MapPlanesOutput {
 // Voxel filter, tensor voting and plane extraction (up detected when
 // options.plane_extraction.detect_up). Throws OptionsError for bad options, InputError for an
 // empty map and InputError("map too large for memory: use --voxel") when the neighbourhoods do not
-// fit. A map without planes gives an empty plane map (and a warning in the log).
+// fit. A map (or a tile) without planes gives an empty plane map.
 MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& options);
+
+// A whole map must hold at least one plane: throws InputError naming `map_path` (the file or the
+// tiles folder) when `planes` is empty, with what usually causes it (units, a map of vegetation).
+void RequirePlanarStructure(const PlaneMap& planes, const std::string& map_path, std::size_t points,
+                            const MapPlanesOptions& options);
 
 // One RGB colour per point for viewing: plane points by plane id (distinct hues), the others by
 // tensor-voting class (surface light grey, curve blue, junction dark red).

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <utility>
 
 #include "planeloc/util/error.h"
@@ -140,9 +141,46 @@ TileIndex ReadTileIndex(const std::filesystem::path& dir) {
     throw InputError(path.string(), 0, fmt::format("bad tiling in the index: {}", e.what()),
                      "re-create the tiles with `planeloc map tile`");
   }
+  const std::string rewrite = "re-create the tiles with `planeloc map tile`";
+  CheckInput(!index.tiles.empty(), path.string(), 0, "the index lists no tiles", rewrite);
+  for (const TileEntry& entry : index.tiles) {
+    // A tile is a file of the folder itself: `map tile` writes plain names, and a name that leaves
+    // the folder would read some other map.
+    const std::filesystem::path file(entry.file);
+    CheckInput(!entry.file.empty() && file.is_relative() && file.filename() == file &&
+                   entry.file != "." && entry.file != "..",
+               path.string(), 0,
+               fmt::format("tile [{}, {}] names the file '{}', which is not a file of the tiles "
+                           "folder",
+                           entry.key[0], entry.key[1], entry.file),
+               "give each tile a plain file name in the folder of index.json; " + rewrite);
+  }
   std::sort(index.tiles.begin(), index.tiles.end(),
             [](const TileEntry& a, const TileEntry& b) { return a.key < b.key; });
+  for (std::size_t i = 1; i < index.tiles.size(); ++i) {
+    const TileEntry& a = index.tiles[i - 1];
+    const TileEntry& b = index.tiles[i];
+    CheckInput(a.key != b.key, path.string(), 0,
+               fmt::format("tile key [{}, {}] is listed twice ({} and {})", a.key[0], a.key[1],
+                           a.file, b.file),
+               rewrite);
+  }
+  std::set<std::string> files;
+  for (const TileEntry& entry : index.tiles) {
+    CheckInput(files.insert(entry.file).second, path.string(), 0,
+               fmt::format("the file {} is listed for two tiles", entry.file), rewrite);
+  }
   return index;
+}
+
+std::size_t CountOutsideTileBox(const TileGrid& grid, const TileKey& key,
+                                const std::vector<Eigen::Vector3d>& points) {
+  // The box is the core grown by the overlap; tile files hold float coordinates, hence the
+  // millimetre of slack.
+  const double limit = -grid.options().overlap - 1e-3;
+  std::size_t outside = 0;
+  for (const auto& p : points) outside += grid.DistanceToCoreEdge(key, p) < limit;
+  return outside;
 }
 
 TileIndex WriteTiles(const PointCloud& map, const TilingOptions& options,

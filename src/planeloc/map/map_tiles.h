@@ -81,8 +81,14 @@ struct TileIndex {
   std::filesystem::path dir;     // where index.json was read from (not written)
 };
 
-// Throws InputError naming TILES_DIR/index.json when it is missing or malformed.
+// Throws InputError naming TILES_DIR/index.json when it is missing or malformed, lists no tile,
+// lists a key or a file twice, or names a file outside the folder.
 TileIndex ReadTileIndex(const std::filesystem::path& dir);
+
+// How many of a tile's points lie outside the box (core grown by the overlap) of `key`: none for
+// a tile that `map tile` wrote for that key.
+std::size_t CountOutsideTileBox(const TileGrid& grid, const TileKey& key,
+                                const std::vector<Eigen::Vector3d>& points);
 void WriteTileIndex(const std::filesystem::path& dir, const TileIndex& index);
 std::string TileFileName(const TileKey& key);
 

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "planeloc/util/error.h"
@@ -80,6 +84,60 @@ TEST(WriteTilesTest, EveryPointInOneCoreAndTheIndexReadsBack) {
 TEST(ReadTileIndexTest, MissingIndexIsAnInputError) {
   TempDir dir;
   EXPECT_THROW(ReadTileIndex(dir.path()), InputError);
+}
+
+// Writes the tiles of a small map and returns the folder's index.json as text.
+std::string WriteSmallTiles(const std::filesystem::path& dir) {
+  PointCloud map;
+  for (double x = -14.95; x < 15.0; x += 0.5) {
+    for (double z = -4.95; z < 5.0; z += 0.5) map.points.emplace_back(x, 1.7, z);
+  }
+  WriteTiles(map, XzTiling(), dir, "map.pcd");
+  std::ifstream in(dir / "index.json");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Expects ReadTileIndex to refuse the index edited by `edit`, with `needle` in the message.
+void ExpectBadIndex(const std::function<void(nlohmann::json&)>& edit, const std::string& needle) {
+  TempDir dir;
+  nlohmann::json index = nlohmann::json::parse(WriteSmallTiles(dir.path()));
+  edit(index);
+  std::ofstream(dir.path() / "index.json") << index.dump(1);
+  try {
+    ReadTileIndex(dir.path());
+    ADD_FAILURE() << "accepted an index with: " << needle;
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.path(), (dir.path() / "index.json").string());
+    EXPECT_NE(std::string(error.what()).find(needle), std::string::npos) << error.what();
+  }
+}
+
+TEST(ReadTileIndexTest, RefusesAnIndexThatDoesNotDescribeItsFolder) {
+  ExpectBadIndex([](nlohmann::json& d) { d["tiles"] = nlohmann::json::array(); }, "lists no tiles");
+  ExpectBadIndex([](nlohmann::json& d) { d["tiles"].push_back(d["tiles"][0]); }, "listed twice");
+  ExpectBadIndex(
+      [](nlohmann::json& d) {
+        d["tiles"][1]["file"] = d["tiles"][0]["file"];
+        d["tiles"][1]["key"] = {99, 99};
+      },
+      "is listed for two tiles");
+  for (const char* file : {"../map.ply", "/tmp/tile.ply", "sub/tile.ply", ""}) {
+    ExpectBadIndex([&](nlohmann::json& d) { d["tiles"][0]["file"] = file; },
+                   "not a file of the tiles folder");
+  }
+}
+
+TEST(CountOutsideTileBoxTest, CountsThePointsOfAnotherTile) {
+  TempDir dir;
+  WriteSmallTiles(dir.path());
+  const TileIndex index = ReadTileIndex(dir.path());
+  const TileGrid grid(index.tiling);
+  const TileEntry& first = index.tiles.front();
+  const TileEntry& last = index.tiles.back();
+  const PointCloud first_tile = ReadPointCloud(dir.path() / first.file);
+  EXPECT_EQ(CountOutsideTileBox(grid, first.key, first_tile.points), 0u);
+  // The two are 30 m apart: every point of one lies outside the other's box.
+  EXPECT_EQ(CountOutsideTileBox(grid, last.key, first_tile.points), first_tile.size());
 }
 
 }  // namespace
