@@ -88,6 +88,13 @@ TEST_F(PoseRefinementTest, RemovesMostOfThePoseNoise) {
     std::printf("seed %u edges %d rejected %d pos %.4f -> %.4f ang %.4f -> %.4f\n", seed,
                 result.edges, result.rejected_edges, before.position, after.position, before.angle,
                 after.angle);
+    // Bounds about 1.8x the worst measured value above; a RefinePoses that returns its input
+    // fails every one of them.
+    EXPECT_EQ(result.edges, 44) << "seed " << seed;  // every neighbour pair registered
+    EXPECT_LT(after.position, 0.045) << "seed " << seed;
+    EXPECT_LT(after.angle, 0.14) << "seed " << seed;
+    EXPECT_LT(after.position, 0.6 * before.position) << "seed " << seed;
+    EXPECT_LT(after.angle, 0.5 * before.angle) << "seed " << seed;
   }
 }
 
