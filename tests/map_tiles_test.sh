@@ -71,6 +71,8 @@ if command -v mpirun >/dev/null 2>&1 && ldd "$planeloc" | grep -q libmpi; then
   check "mpirun -n 2 planes.json identical to one process" cmp "$tmp/tiled.json" "$tmp/mpi.json"
   check "both ranks processed tiles" \
     test "$(grep -c 'rank 1)' "$tmp/mpi.log")" -ge 1 -a "$(grep -c 'rank 0)' "$tmp/mpi.log")" -ge 1
+elif [ "${PLANELOC_REQUIRE_COMPONENTS:-0}" = 1 ]; then
+  check "mpirun -n 2 (planeloc built with MPI and mpirun installed; PLANELOC_REQUIRE_COMPONENTS=1)" false
 else
   echo "skip mpirun (planeloc built without MPI or no mpirun)"
 fi

@@ -6,7 +6,7 @@
 # of the screenshot is drawn (pixel spread, not one flat colour), the plots and keyframe images
 # are there, and the console shows no error.
 # Without chromium (or python3-pil) the test is skipped (exit 77) unless
-# PLANELOC_REQUIRE_SHARED_DATA=1 (CI), where it fails. PLANELOC_REPORT_TEST_OUT=DIR keeps the
+# PLANELOC_REQUIRE_COMPONENTS=1 (CI), where it fails. PLANELOC_REPORT_TEST_OUT=DIR keeps the
 # report, screenshot and logs there.
 # Usage: tests/report_browser_test.sh PLANELOC_BINARY
 set -uo pipefail
@@ -21,8 +21,8 @@ check() {  # check DESCRIPTION COMMAND...
   if "$@"; then echo "ok   $what"; else echo "FAIL $what"; fail=1; fi
 }
 missing() {  # missing WHAT: skip, or fail in CI
-  if [ "${PLANELOC_REQUIRE_SHARED_DATA:-0}" = 1 ]; then
-    echo "FAIL $1 is not installed and PLANELOC_REQUIRE_SHARED_DATA=1 (fix: ./scripts/setup.sh)"
+  if [ "${PLANELOC_REQUIRE_COMPONENTS:-0}" = 1 ]; then
+    echo "FAIL $1 is not installed and PLANELOC_REQUIRE_COMPONENTS=1 (fix: ./scripts/setup.sh)"
     exit 1
   fi
   echo "SKIP $1 is not installed (./scripts/setup.sh installs it); the report is not checked in a browser"
