@@ -65,12 +65,12 @@ TileIndex TileSequence(const TileArgs& args) {
              fmt::format("{} poses for the {} frames of {}", poses.size(), sequence.size(),
                          sequence.folder().string()),
              "give --poses the pose file of this sequence (one world_from_cam per frame)");
-  CheckInput(sequence.cam_from_velo().has_value() && !poses.world_from_cam.empty(), args.sequence,
-             0, "the sequence has no LiDAR-to-camera calibration (Tr / calib_velo_to_cam.txt)",
-             "use a sequence with its Velodyne calibration");
+  const Rigid3d& cam_from_velo = sequence.RequireCamFromVelo();
+  CheckInput(!poses.world_from_cam.empty(), args.poses, 0, "no poses",
+             "give --poses the pose file of this sequence (one world_from_cam per frame)");
   TilingOptions tiling = args.tiling;
   if (tiling.axes[0] < 0) {
-    tiling.axes = AxesFromSensor(poses.world_from_cam.front() * *sequence.cam_from_velo());
+    tiling.axes = AxesFromSensor(poses.world_from_cam.front() * cam_from_velo);
   }
   TiledMapWriter writer(args.build, tiling, args.out, args.sequence);
   std::size_t most_open = 0;

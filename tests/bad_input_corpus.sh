@@ -335,6 +335,24 @@ unlink_copy "$dir/velodyne/000002.bin"
 truncate -s 100 "$dir/velodyne/000002.bin"
 expect 2 "$dir/velodyne/000002.bin" "map build truncated scan" "$work/m.pcd" -- \
   "$planeloc" map build --sequence "$dir" --poses "$poses" --out "$work/m.pcd"
+# An empty scan is counted in the log, not dropped silently (issue 37): the map is still built.
+empty_dir="$work/seq_empty_scan"
+mirror "$seq" "$empty_dir"
+rm "$empty_dir/velodyne/000003.bin"
+: >"$empty_dir/velodyne/000003.bin"
+expect 0 "1 of the 10 scans gave no point" "map build with an empty scan" "$work/m.pcd" -- \
+  "$planeloc" map build --sequence "$empty_dir" --poses "$poses" --out "$work/m.pcd" --voxel 0.5
+# No `Tr` line: the message names calib.txt, not the sequence (issue 37).
+no_tr_dir="$work/seq_no_tr"
+mirror "$seq" "$no_tr_dir"
+unlink_copy "$no_tr_dir/calib.txt"
+sed -i '/^Tr:/d' "$no_tr_dir/calib.txt"
+expect 2 "$no_tr_dir/calib.txt: no \`Tr\` line" "map build without Tr" "$work/m.pcd" -- \
+  "$planeloc" map build --sequence "$no_tr_dir" --poses "$poses" --out "$work/m.pcd"
+# A NaN in the simulator's --trajectory: named as such, with its line (issue 37).
+head -3 "$poses" | sed '2s/^[^ ]*/nan/' >"$work/nan_trajectory.txt"
+expect 2 "$work/nan_trajectory.txt:2: value 'nan' is not finite" "sim --trajectory with a NaN" -- \
+  "$planeloc" sim --out "$work/sim_nan" --preset tiny --trajectory "$work/nan_trajectory.txt"
 head -5 "$poses" >"$work/five_poses.txt"
 expect 2 "$work/five_poses.txt" "map build fewer poses than frames" "$work/m.pcd" -- \
   "$planeloc" map build --sequence "$seq" --poses "$work/five_poses.txt" --out "$work/m.pcd"
@@ -732,6 +750,9 @@ if [ -d "$shared/kitti-odometry-gt" ] && [ -d "$shared/kitti-raw-2011_09_26_driv
   raw_case time_back "@/image_00/timestamps.txt:4:" 'sed -i "4s/13:02/13:01/" image_00/timestamps.txt'
   raw_case time_word "@/image_00/timestamps.txt:2:" 'sed -i "2s/.*/yesterday/" image_00/timestamps.txt'
   raw_case calib_missing "@/calib_cam_to_cam.txt" 'rm calib_cam_to_cam.txt'
+  # fx = 0 in P_rect_00 (line 10): the line of P_rect_00, not of P_rect_01 (issue 37).
+  raw_case p_rect_fx0 "@/calib_cam_to_cam.txt:10: \`P_rect_00\` has fx = 0" \
+    'cp --remove-destination "$(readlink -f calib_cam_to_cam.txt)" calib_cam_to_cam.txt; sed -i "s/^P_rect_00: [^ ]*/P_rect_00: 0.000000e+00/" calib_cam_to_cam.txt'
   raw_case right0_missing "@/image_01/data/0000000000.png" 'rm image_01/data/0000000000.png'
 else
   echo "real KITTI slices skipped: $shared not found"

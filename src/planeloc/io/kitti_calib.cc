@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "planeloc/util/error.h"
 
@@ -139,6 +140,15 @@ StereoCamera StereoCameraFromCalib(const KittiCalibFile& calib, const std::strin
                                    const std::string& right_key, int width, int height) {
   const Matrix3x4d left = calib.Matrix3x4(left_key);
   const Matrix3x4d right = calib.Matrix3x4(right_key);
+  // The pair's own checks below cannot tell which line is wrong; the intrinsics of each can.
+  for (const auto& [key, p] : {std::pair{left_key, left}, std::pair{right_key, right}}) {
+    if (!(p(0, 0) > 0 && p(1, 1) > 0 && p.allFinite())) {
+      throw InputError(calib.path().string(), calib.LineOf(key),
+                       fmt::format("`{}` has fx = {} and fy = {}: focal lengths must be positive",
+                                   key, p(0, 0), p(1, 1)),
+                       "restore the line from the original KITTI calibration");
+    }
+  }
   try {
     return StereoCamera::FromProjections(left, right, width, height);
   } catch (const std::invalid_argument& error) {

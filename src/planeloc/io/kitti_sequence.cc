@@ -394,6 +394,7 @@ void KittiSequence::OpenOdometry(CameraChoice cameras) {
   SetVelodyneScans(folder_ / "velodyne");
   // Tr and poses/XX.txt refer to cam0; the colour camera sits at P2's x offset from it.
   const Rigid3d cam_from_cam0 = RectifiedCameraFromCam0(calib.Matrix3x4(left_key));
+  velo_calibration_path_ = folder_ / "calib.txt";
   if (calib.Has("Tr")) cam_from_velo_ = cam_from_cam0 * calib.RigidFrom3x4("Tr");
   const fs::path poses_path =
       folder_.parent_path().parent_path() / "poses" / (folder_.filename().string() + ".txt");
@@ -426,6 +427,7 @@ void KittiSequence::OpenRaw(CameraChoice cameras) {
 
   // Rectified camera k: x_cam = offset_k + R_rect_00 * (R x_velo + T) (KITTI raw devkit).
   const std::optional<fs::path> velo_to_cam = FindBesideOrAbove(folder_, "calib_velo_to_cam.txt");
+  velo_calibration_path_ = velo_to_cam.value_or(folder_ / "calib_velo_to_cam.txt");
   if (velo_to_cam) {
     const KittiCalibFile velo = KittiCalibFile::Read(*velo_to_cam);
     const Rigid3d rect0_from_cam0(calib.Matrix3("R_rect_00"), Eigen::Vector3d::Zero());
@@ -433,6 +435,20 @@ void KittiSequence::OpenRaw(CameraChoice cameras) {
                      velo.RigidFromRT("R", "T");
   }
   LoadOxtsGroundTruth();
+}
+
+const Rigid3d& KittiSequence::RequireCamFromVelo() const {
+  if (cam_from_velo_) return *cam_from_velo_;
+  if (layout_ == KittiLayout::kOdometry) {
+    throw InputError(velo_calibration_path_.string(), 0,
+                     "no `Tr` line: the LiDAR-to-camera calibration that the scans need",
+                     "add the sequence's `Tr:` line (12 numbers, KITTI odometry's calib.txt)");
+  }
+  throw InputError(velo_calibration_path_.string(), 0,
+                   "the LiDAR-to-camera calibration was not found here nor in the parent (date) "
+                   "folder",
+                   "copy calib_velo_to_cam.txt of the drive's date (KITTI raw calibration zip) "
+                   "beside the drive");
 }
 
 void KittiSequence::LoadOxtsGroundTruth() {

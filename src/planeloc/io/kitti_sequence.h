@@ -62,6 +62,9 @@ class KittiSequence : public StereoSource {
   // (odometry: `Tr` of calib.txt; raw: calib_velo_to_cam.txt with R_rect_00 and the camera offset).
   // The colour pair adds its x offset P2(0,3)/fx to cam0 (see docs/io.md).
   const std::optional<Rigid3d>& cam_from_velo() const { return cam_from_velo_; }
+  // cam_from_velo, or an InputError naming the calibration file that lacks it (calib.txt's `Tr`
+  // line; the raw layout's calib_velo_to_cam.txt) and how to add it.
+  const Rigid3d& RequireCamFromVelo() const;
   // Velodyne scan file of frame `index`, if the sequence has one.
   std::optional<std::filesystem::path> velodyne_path(std::size_t index) const;
 
@@ -92,6 +95,7 @@ class KittiSequence : public StereoSource {
   std::vector<double> timestamps_;
   StereoCamera camera_;
   std::optional<Rigid3d> cam_from_velo_;
+  std::filesystem::path velo_calibration_path_;  // where cam_from_velo_ comes from, or would
   std::optional<std::vector<Rigid3d>> ground_truth_;
 };
 

@@ -42,9 +42,14 @@ void MapAccumulator::AddScan(const std::vector<Eigen::Vector3d>& points_in_velo,
   std::vector<Eigen::Vector3d> kept;
   kept.reserve(points_in_velo.size());
   for (const auto& p : points_in_velo) {
+    if (!p.allFinite()) {
+      ++non_finite_points_;
+      continue;
+    }
     const double r2 = p.squaredNorm();
-    if (r2 >= min2 && r2 <= max2 && p.allFinite()) kept.push_back(world_from_velo * p);
+    if (r2 >= min2 && r2 <= max2) kept.push_back(world_from_velo * p);
   }
+  empty_scans_ += kept.empty();
   AddPoints(std::move(kept));
   ++scans_;
 }
@@ -81,10 +86,7 @@ Rigid3d CheckScanSequence(const KittiSequence& sequence, const Trajectory& poses
              "the poses have " + std::to_string(poses.size()) + " entries but the sequence has " +
                  std::to_string(sequence.size()) + " frames",
              "give the pose file of this sequence (one world_from_cam per frame)");
-  CheckInput(sequence.cam_from_velo().has_value(), folder, 0,
-             "the sequence has no LiDAR-to-camera calibration (Tr / calib_velo_to_cam.txt)",
-             "use a sequence with its Velodyne calibration");
-  return *sequence.cam_from_velo();
+  return sequence.RequireCamFromVelo();
 }
 
 std::size_t ForEachScan(
@@ -128,6 +130,12 @@ PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequenc
              "check --min-range / --max-range (metres)");
   spdlog::info("map build: {} scans -> {} points (voxel {} m)", accumulator.scans(), map.size(),
                options.voxel_size);
+  if (accumulator.empty_scans() > 0 || accumulator.non_finite_points() > 0) {
+    spdlog::warn(
+        "map build: {} of the {} scans gave no point (empty, all NaN/Inf, or all beyond "
+        "--min-range/--max-range); {} NaN/Inf points dropped (a damaged scan file)",
+        accumulator.empty_scans(), accumulator.scans(), accumulator.non_finite_points());
+  }
   return map;
 }
 

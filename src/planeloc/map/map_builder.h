@@ -41,6 +41,10 @@ class MapAccumulator {
   // Adds points already in the world frame (no range filter), voxel-downsampled like a scan.
   void AddPoints(std::vector<Eigen::Vector3d> points_in_world);
   std::size_t scans() const { return scans_; }
+  // Of the scans added: those that gave no point (empty, all NaN/Inf, or all out of range), and
+  // the NaN/Inf points dropped (a Velodyne return is never NaN: a damaged file).
+  std::size_t empty_scans() const { return empty_scans_; }
+  std::size_t non_finite_points() const { return non_finite_points_; }
   // The downsampled map (world frame). Call once.
   PointCloud Finish();
 
@@ -51,6 +55,8 @@ class MapAccumulator {
   std::vector<Eigen::Vector3d> points_;
   std::size_t compacted_size_ = 0;
   std::size_t scans_ = 0;
+  std::size_t empty_scans_ = 0;
+  std::size_t non_finite_points_ = 0;
 };
 
 // Voxel-grid downsampling (io/voxel_filter.h: voxels aligned with the frame origin, centroid per

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "planeloc/map/neighborhoods.h"
@@ -42,6 +43,31 @@ TEST(MapAccumulatorTest, TransformsFiltersRangeAndDownsamples) {
     EXPECT_GE(r, 2.0 - 0.2);
     EXPECT_LE(r, 4.0 + 0.2);
   }
+}
+
+// Damaged scans are counted, not silently dropped (issue 37): an empty scan, an all-NaN one, one
+// scaled x 1e30 (every point beyond max_range) and a road scan with 3 NaN/Inf points.
+TEST(MapAccumulatorTest, CountsScansWithoutPointsAndNonFinitePoints) {
+  MapBuildOptions options;
+  options.show_progress = false;
+  MapAccumulator accumulator(options);
+  const Rigid3d identity;
+  accumulator.AddScan({}, identity);
+  accumulator.AddScan(std::vector<Eigen::Vector3d>(100, Eigen::Vector3d::Constant(NAN)), identity);
+  std::vector<Eigen::Vector3d> scaled = RoadScan();
+  for (auto& p : scaled) p *= 1e30;
+  accumulator.AddScan(scaled, identity);
+  std::vector<Eigen::Vector3d> damaged = RoadScan();
+  damaged[0].x() = NAN;
+  damaged[1].y() = INFINITY;
+  damaged[2].z() = -INFINITY;
+  accumulator.AddScan(damaged, identity);
+  EXPECT_EQ(accumulator.scans(), 4u);
+  EXPECT_EQ(accumulator.empty_scans(), 3u);
+  EXPECT_EQ(accumulator.non_finite_points(), 103u);
+  const PointCloud map = accumulator.Finish();
+  EXPECT_FALSE(map.empty());
+  for (const auto& p : map.points) EXPECT_TRUE(p.allFinite());
 }
 
 TEST(MapAccumulatorTest, CompactionKeepsTheMapBounded) {

@@ -10,6 +10,7 @@
 #include <optional>
 #include <sstream>
 
+#include "planeloc/io/trajectory.h"
 #include "planeloc/sim/raycast.h"
 #include "planeloc/sim/render.h"
 #include "planeloc/sim/shading.h"
@@ -45,23 +46,9 @@ Eigen::Matrix<double, 3, 4> Kitti07Tr() {
   return tr;
 }
 
+// The io reader's checks (a line of 12 finite numbers, a rotation) with their line numbers.
 std::vector<Rigid3d> ReadPoseFile(const fs::path& path) {
-  std::ifstream in(path);
-  CheckInput(static_cast<bool>(in), path.string(), 0, "cannot open the trajectory file",
-             "pass a readable KITTI pose file (12 numbers a line) to --trajectory");
-  std::vector<Rigid3d> poses;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    std::istringstream fields(line);
-    Eigen::Matrix<double, 3, 4> m;
-    for (int k = 0; k < 12; ++k) {
-      CheckInput(static_cast<bool>(fields >> m(k / 4, k % 4)), path.string(), number,
-                 "expected 12 numbers (row-major 3x4 world_from_cam)",
-                 "fix or regenerate the line");
-    }
-    poses.push_back(Rigid3d::FromMatrix3x4(m));
-  }
+  std::vector<Rigid3d> poses = ReadKittiTrajectory(path).world_from_cam;
   CheckInput(poses.size() >= 2, path.string(), 0, "the trajectory has fewer than 2 poses",
              "pass a KITTI pose file with at least 2 lines");
   return poses;
