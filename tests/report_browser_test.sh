@@ -2,9 +2,10 @@
 # `planeloc report` in a real browser (issue 12): a tiny synthetic pipeline (sim -> map -> planes
 # -> plane-mode and VO runs with --report-dir -> report), then headless Chromium opens the page
 # twice: once for a screenshot (with the console log on stderr), once to dump the DOM after the
-# scripts ran. Checks: the page says it finished with no error of its own, the 3-D canvas region
-# of the screenshot is drawn (pixel spread, not one flat colour), the plots and keyframe images
-# are there, and the console shows no error.
+# scripts ran. Checks: the page says it finished with no error of its own, the 3-D scene holds one
+# mesh per plane and one line vertex per pose and its first frame drew triangles (the page's own
+# counts), the canvas region of the screenshot is drawn (pixel spread, not one flat colour), the
+# plots and keyframe images are there, and the console shows no error.
 # Without chromium (or python3-pil) the test is skipped (exit 77) unless
 # PLANELOC_REQUIRE_COMPONENTS=1 (CI), where it fails. PLANELOC_REPORT_TEST_OUT=DIR keeps the
 # report, screenshot and logs there.
@@ -89,6 +90,19 @@ check "keyframe images inlined" grep -q 'src="data:image/jpeg;base64,' "$dom"
 console_errors=$(grep -E 'CONSOLE' "$out/chromium_screenshot.log" | grep -Ei 'ERROR:CONSOLE|Uncaught|error' || true)
 check "no console error" test -z "$console_errors"
 [ -z "$console_errors" ] || echo "$console_errors" | head -5
+
+# The scene itself (issue 37: pixel spread alone passed with an empty scene): one mesh per plane
+# of the run's plane map, one line vertex per pose of both runs, and a first frame that drew
+# triangles.
+scene_value() { grep -o "data-scene-$1=\"[0-9]*\"" "$dom" | grep -o '[0-9]*' || echo -1; }
+want_planes=$("$python" -c "import json, sys; print(sum(len(p.get('polygon', [])) >= 3 for p in json.load(open(sys.argv[1]))['planes']))" "$out/run_planes/planes.json")
+want_vertices=$(($(wc -l <"$out/run_planes/trajectory.txt") + $(wc -l <"$out/run_vo/trajectory.txt")))
+check "the 3-D scene holds the $want_planes planes of the map (data-scene-planes=$(scene_value planes))" \
+  test "$(scene_value planes)" -eq "$want_planes" -a "$want_planes" -gt 0
+check "the 3-D scene holds both runs' $want_vertices poses (data-scene-run-vertices=$(scene_value run-vertices))" \
+  test "$(scene_value run-vertices)" -eq "$want_vertices"
+check "the first frame drew triangles (data-scene-triangles=$(scene_value triangles))" \
+  test "$(scene_value triangles)" -gt 0
 
 rect=$(grep -o 'data-canvas-rect="[0-9,.-]*"' "$dom" | grep -o '[0-9,.-]*' | tail -1)
 check "the 3-D canvas reported its place ($rect)" test -n "$rect"
