@@ -63,7 +63,9 @@ check "GT recall not lower tiled ($(good "$tmp/untiled.json") untiled vs $(good 
   test "$(good "$tmp/tiled.json")" -ge "$(good "$tmp/untiled.json")"
 
 # MPI: two ranks on this machine, the same bytes as one process.
-if command -v mpirun >/dev/null 2>&1 && ldd "$planeloc" | grep -q libmpi; then
+# `grep` without -q: under pipefail, `grep -q` exiting at the first match can end ldd with
+# SIGPIPE, and the whole MPI half was then skipped as if MPI were missing.
+if command -v mpirun >/dev/null 2>&1 && ldd "$planeloc" | grep libmpi >/dev/null; then
   root=()
   [ "$(id -u)" -eq 0 ] && root=(--allow-run-as-root)  # Open MPI refuses root without it
   run "$tmp/mpi.log" mpirun -n 2 --oversubscribe "${root[@]}" "$planeloc" map planes \
