@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
+#include <utility>
 
 namespace planeloc {
 namespace {
@@ -31,7 +32,9 @@ std::int64_t CellKey(double a, double b, double cell_size) {
 PlaneSpread MeasureSpread(const std::vector<Eigen::Vector3d>& members, const Plane& plane,
                           int min_cell_members) {
   PlaneSpread spread;
-  const auto [u, v] = plane.InPlaneBasis();
+  // Named copies, not a structured binding: clang 14 cannot capture one in a lambda.
+  const std::pair<Eigen::Vector3d, Eigen::Vector3d> basis = plane.InPlaneBasis();
+  const Eigen::Vector3d u = basis.first, v = basis.second;
   const auto flat = [&](const Eigen::Vector3d& p) { return Eigen::Vector2d(p.dot(u), p.dot(v)); };
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
   for (const auto& p : members) mean += flat(p);
