@@ -105,6 +105,8 @@ void WriteTileIndex(const std::filesystem::path& dir, const TileIndex& index) {
   WriteFileWhole(dir / "index.json", doc.dump(1) + "\n");
 }
 
+constexpr const char* kRecreateTiles = "re-create the tiles with `planeloc map tile`";
+
 TileIndex ReadTileIndex(const std::filesystem::path& dir) {
   const std::filesystem::path path = dir / "index.json";
   std::ifstream in(path);
@@ -132,17 +134,16 @@ TileIndex ReadTileIndex(const std::filesystem::path& dir) {
     }
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path.string(), 0, fmt::format("malformed tile index: {}", e.what()),
-                     "re-create the tiles with `planeloc map tile`");
+                     kRecreateTiles);
   }
   try {
     index.tiling.Check();
     TileGrid grid(index.tiling);
   } catch (const std::exception& e) {
     throw InputError(path.string(), 0, fmt::format("bad tiling in the index: {}", e.what()),
-                     "re-create the tiles with `planeloc map tile`");
+                     kRecreateTiles);
   }
-  const std::string rewrite = "re-create the tiles with `planeloc map tile`";
-  CheckInput(!index.tiles.empty(), path.string(), 0, "the index lists no tiles", rewrite);
+  CheckInput(!index.tiles.empty(), path.string(), 0, "the index lists no tiles", kRecreateTiles);
   for (const TileEntry& entry : index.tiles) {
     // A tile is a file of the folder itself: `map tile` writes plain names, and a name that leaves
     // the folder would read some other map.
@@ -153,7 +154,8 @@ TileIndex ReadTileIndex(const std::filesystem::path& dir) {
                fmt::format("tile [{}, {}] names the file '{}', which is not a file of the tiles "
                            "folder",
                            entry.key[0], entry.key[1], entry.file),
-               "give each tile a plain file name in the folder of index.json; " + rewrite);
+               std::string("give each tile a plain file name in the folder of index.json; ") +
+                   kRecreateTiles);
   }
   std::sort(index.tiles.begin(), index.tiles.end(),
             [](const TileEntry& a, const TileEntry& b) { return a.key < b.key; });
@@ -163,12 +165,12 @@ TileIndex ReadTileIndex(const std::filesystem::path& dir) {
     CheckInput(a.key != b.key, path.string(), 0,
                fmt::format("tile key [{}, {}] is listed twice ({} and {})", a.key[0], a.key[1],
                            a.file, b.file),
-               rewrite);
+               kRecreateTiles);
   }
   std::set<std::string> files;
   for (const TileEntry& entry : index.tiles) {
     CheckInput(files.insert(entry.file).second, path.string(), 0,
-               fmt::format("the file {} is listed for two tiles", entry.file), rewrite);
+               fmt::format("the file {} is listed for two tiles", entry.file), kRecreateTiles);
   }
   return index;
 }
