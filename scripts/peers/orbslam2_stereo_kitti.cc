@@ -195,7 +195,8 @@ int main(int argc, char** argv) {
 
   std::vector<double> sorted = track_ms_all;
   std::sort(sorted.begin(), sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  const size_t n = sorted.size();
+  const double median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
   std::cerr << "orbslam2_stereo_kitti: " << times.size() << " frames in " << run_s << " s ("
             << times.size() / run_s << " fps, vocabulary/system load " << load_ms / 1000.0
             << " s not included), median TrackStereo " << median << " ms, frames without a pose "
