@@ -92,12 +92,12 @@ else
   tar -xzf "$pangolin_archive" -C "$staging" || die "cannot unpack $pangolin_archive"
   [[ -d "$staging/ORB_SLAM2" && -d "$staging/Pangolin" ]] || die "archives do not hold ORB_SLAM2/ and Pangolin/"
   for p in "${patches[@]}"; do
-    if ! patch -d "$staging/ORB_SLAM2" -p1 --forward --batch --dry-run <"$p" >"$out/logs/patch.log" 2>&1; then
+    if ! patch -d "$staging/ORB_SLAM2" -p1 --forward --batch --fuzz=0 --dry-run <"$p" >"$out/logs/patch.log" 2>&1; then
       cat "$out/logs/patch.log" >&2
       rm -rf "$staging"
       die "patch does not apply: $p"
     fi
-    patch -d "$staging/ORB_SLAM2" -p1 --forward --batch --quiet <"$p"
+    patch -d "$staging/ORB_SLAM2" -p1 --forward --batch --fuzz=0 --quiet <"$p"
     log "applied $(basename "$p")"
   done
   rm -rf "${out:?}/ORB_SLAM2" "${out:?}/Pangolin" "${out:?}/pangolin-build" "${out:?}/pangolin-install" \
