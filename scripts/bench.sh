@@ -2,7 +2,7 @@
 # Builds Release, runs every benchmark and rewrites docs/benchmarks.md (issue 12 item 4).
 #
 # Usage: scripts/bench.sh [--quick] [--fresh] [--no-build] [--drives "PRESET:SEED,... ..."]
-#                         [--no-robustness] [--no-map-lock]
+#                         [--no-robustness] [--no-map-lock] [--no-peers]
 #   --quick     under 5 minutes on a 2-core machine: the simulator's `tiny` drive (one seed) and a
 #               subset of the Google Benchmark programs with short minimum times
 #   (default)   every benchmark; `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2 (about an
@@ -13,6 +13,8 @@
 #               and kitti07-like drives, 20 draws from it on small 3, 11, 21)
 #   --no-robustness  the full mode without the wrong maps and the ablation
 #   --no-map-lock    the full mode without issue 30's default-start runs
+#   --no-peers  the full mode without issue 33's same-run comparison with the real ORB-SLAM2
+#               (scripts/bench_peers.sh: builds the peer once, then about 25 minutes)
 #   --fresh     remake the cached simulator drives and plane maps (build/bench/data/)
 #   --no-build  use the binaries in the build folder as they are
 #   --drives    other simulated drives than the mode's, e.g. "small:3 kitti07-like:1" (the page
@@ -25,9 +27,11 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build_dir="${PLANELOC_BUILD_DIR:-$root/build}"
 run_args=()
 build=1
+peers=1
 while [ $# -gt 0 ]; do
   case "$1" in
-    --quick) run_args+=(--quick); shift ;;
+    --quick) run_args+=(--quick); peers=0; shift ;;
+    --no-peers) peers=0; shift ;;
     --fresh) run_args+=(--fresh); shift ;;
     --no-build) build=0; shift ;;
     --drives) run_args+=(--drives "$2"); shift 2 ;;
@@ -42,7 +46,12 @@ if [ "$build" = 1 ]; then
   "$root/scripts/setup.sh"
   PLANELOC_BUILD_DIR="$build_dir" "$root/scripts/build.sh"
 fi
+# A comparison from an earlier run never reaches this run's page.
+rm -f "$build_dir/bench/peers.json"
 python3 "$root/scripts/bench_run.py" --build "$build_dir" --out "$build_dir/bench" "${run_args[@]}"
+if [ "$peers" = 1 ]; then
+  PLANELOC_BUILD_DIR="$build_dir" "$root/scripts/bench_peers.sh" --out "$build_dir/bench"
+fi
 python3 "$root/scripts/bench_report.py" --results "$build_dir/bench" \
   --out "$root/docs/benchmarks.md"
 echo "bench.sh: $(($(date +%s) - start)) s in all (build included)"

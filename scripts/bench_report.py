@@ -20,6 +20,8 @@ has one, a ratio of its result to a reference measured in the same run:
                 map, its wrong copies, a map from noisy poses, the oracle map and no map; the
                 worst wrong map over the clean map (bound 1.5) and over the oracle map; and the
                 ablation of the association's settings, each against the defaults
+  peers         issue 33 (RESULTS/peers.json, scripts/bench_peers.py; bench_report_peers.py): the
+                real ORB-SLAM2 beside planeloc's VO and plane mode on the same drives
   processes     every process of the pipeline: wall time, CPU time, peak RSS
   other         every other Google Benchmark result (no reference)
 
@@ -37,6 +39,7 @@ import re
 import sys
 
 import bench_report_map_lock
+import bench_report_peers
 import bench_report_wrong_maps
 from bench_format import cell, code, mean_or_none, num, ratio, spread, table
 
@@ -92,7 +95,8 @@ def load(results):
             raise ReportError(f"{path}: {e} (run scripts/bench.sh first)") from e
     out["gbench"] = load_gbench(results)
     out["results"] = results
-    for key, name in (("robustness", "robustness.json"), ("map_lock", "maplock.json")):
+    for key, name in (("robustness", "robustness.json"), ("map_lock", "maplock.json"),
+                      ("peers", "peers.json")):
         path = os.path.join(results, name)  # full mode only
         out[key] = None
         if os.path.exists(path):
@@ -480,6 +484,8 @@ def render(data):
         parts.append(bench_report_wrong_maps.section(data, tag))
     if data.get("map_lock"):
         parts.append(bench_report_map_lock.section(data, tag))
+    if data.get("peers"):
+        parts.append(bench_report_peers.section(data, tag))
     parts.append(
         "## Processes of the pipeline: time and peak RSS\n\n"
         "Peak RSS: `ru_maxrss` of the process (wait4). Simulator and map steps are cached under "

@@ -72,6 +72,26 @@ class BenchReportTest(unittest.TestCase):
                 self.assertTrue(any(line.endswith(f"| {t} |") for t in tags), line)
                 self.assertTrue("`build/bin/" in line or PAPER in line, line)
 
+    def test_peers_same_run_ratios(self):
+        # tests/bench_report_fixture/peers.json, small 3: ORB-SLAM2 20 fps, ATE 0.200 m, 400 MB.
+        vo = self.row("Same run as ORB-SLAM2", "planeloc VO")
+        self.assertEqual(vo[5], "2.00")  # fps 40 / 20, goal >= 1.5: not bold
+        self.assertEqual(vo[10], "**1.25**")  # ATE 0.250 / 0.200 above the peer's
+        self.assertEqual(vo[14], "0.45")  # RSS 180 / 400
+        exact = self.row("Same run as ORB-SLAM2", "planes, exact start")
+        self.assertEqual(exact[10], "0.25")  # 0.050 / 0.200, goal <= 0.5
+        prior = self.row("Same run as ORB-SLAM2", "planes, default prior")
+        self.assertEqual(prior[10], "**0.60**")  # 0.120 / 0.200 misses the goal
+        self.assertEqual(prior[14], "**0.53**")  # RSS 210 / 400 > 0.5
+        self.assertIn("1/2 (exit code 2", prior[3])  # the failed round is in the row
+        peer = self.row("Same run as ORB-SLAM2", "ORB-SLAM2 (stereo")
+        self.assertEqual(peer[6], "90.0 (85.0–95.0)")
+        self.assertTrue(peer[-1] == TAG, peer)
+        goals = self.section("Same run as ORB-SLAM2")
+        self.assertIn("frame rate: 1 of 1 drives; at or below its ATE: 0 of 1", goals)
+        self.assertIn("default prior: 0 of 1 drives", goals)
+        self.assertIn("every planeloc row: 0 of 1 drives", goals)
+
     def test_google_benchmark_ratios(self):
         # ORB: process_cpu_ms 12.0 / 8.0 = 1.50 (not the main-thread cpu_time 11.0 / 7.5).
         self.assertIn("**1.50**", self.row("Speed", "ORB extraction")[4])

@@ -1,0 +1,245 @@
+#!/usr/bin/env python3
+"""Same-run comparison with the real ORB-SLAM2 (issue 33 item 2): peers.json for docs/benchmarks.md.
+
+Per drive (the bench's cached simulator drives, build/bench/data/<preset>-<seed>/, made by
+scripts/bench_run.py's prepare_drive when missing), REPEATS rounds, each round running, one after
+the other on the same machine:
+
+  orbslam2       ORB-SLAM2 stereo without loop closing (build-peers/bin/orbslam2_stereo_kitti,
+                 scripts/peers/build_orbslam2.sh; viewer off, no real-time wait; the vocabulary
+                 build-peers/vocabulary/orbvoc.txt, self-trained: docs/peers.md)
+  vo             planeloc run --no-planes (threaded, the default)
+  planes-exact   planeloc run --planes, --init-sigma "0 0 0" (the exact start, no map lock)
+  planes-prior   planeloc run --planes with the default prior "2 0.5 5" given the exact pose (the
+                 path a user takes; the run registers itself to the map)
+
+Interleaved rounds put the machine's load on every row alike. Per run: frames per second (frames /
+the tracking loop's wall time, image decoding included, start-up and vocabulary loading not),
+CPU ms per frame (user + system of the process over its frames, start-up included), frames
+without a pose, ATE RMSE with no alignment and with SE(3) (`planeloc eval`), KITTI drift on paths
+of 100 m or more, and peak RSS (ru_maxrss). ORB-SLAM2's poses are in the frame of its first
+camera; for "no alignment" they are put into the GT frame by the first GT pose
+(T_gt0 * T_est_i), as planeloc's runs start from that same pose. ORB-SLAM2's poses are those of
+each frame as it was tracked (its file, written frame by frame like planeloc's); its end-of-run
+keyframe trajectory (SaveTrajectoryKITTI) is evaluated too, as `ate_final_*`.
+
+Usage: scripts/bench_peers.py [--build build] [--out BUILD/bench] [--repeats 3]
+                              [--drives "small:3,11,21 kitti07-like:1,2"]
+"""
+import argparse
+import json
+import os
+import statistics
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bench_run  # noqa: E402  (the bench's drive cache, process measurement and evaluation)
+from bench_run import ROOT, BenchError, command_text, now_utc, rel, run_measured  # noqa: E402
+
+PEERS = os.path.join(ROOT, "build-peers")
+RUNNER = os.path.join(PEERS, "bin", "orbslam2_stereo_kitti")
+VOCABULARY = os.path.join(PEERS, "vocabulary", "orbvoc.txt")
+STAMP = os.path.join(PEERS, ".orbslam2.stamp")
+DEFAULT_DRIVES = [("small", [3, 11, 21]), ("kitti07-like", [1, 2])]
+ROWS = ["orbslam2", "vo", "planes-exact", "planes-prior"]
+
+
+def read_kitti(path):
+    poses = []
+    with open(path) as f:
+        for line in f:
+            values = [float(v) for v in line.split()]
+            if len(values) == 12:
+                poses.append(values)
+    return poses
+
+
+def compose(a, b):
+    """3x4 row-major poses a * b."""
+    out = []
+    for r in range(3):
+        for c in range(4):
+            v = sum(a[4 * r + k] * b[4 * k + c] for k in range(3))
+            if c == 3:
+                v += a[4 * r + 3]
+            out.append(v)
+    return out
+
+
+def into_gt_frame(est_path, gt_path, out_path):
+    """The estimate's poses left-multiplied by the first GT pose."""
+    first = read_kitti(gt_path)[0]
+    with open(out_path, "w") as f:
+        for pose in read_kitti(est_path):
+            f.write(" ".join(f"{v:.9e}" for v in compose(first, pose)) + "\n")
+
+
+def evaluate(planeloc, gt, est, prefix, kitti):
+    result = {}
+    for align in ("none", "se3"):
+        json_path = f"{prefix}.eval-{align}.json"
+        cmd = [planeloc, "eval", "--gt", gt, "--est", est, "--align", align, "--json", json_path]
+        if kitti and align == "none":
+            cmd.append("--kitti-drift")
+        run_measured(cmd, f"{prefix}.eval-{align}.log")
+        with open(json_path) as f:
+            stats = json.load(f)
+        result[f"ate_{align}_m"] = stats["ape"]["rmse"]
+        if "kitti_drift" in stats:
+            result["t_rel_percent"] = stats["kitti_drift"]["t_rel_percent"]
+            result["r_rel_deg_per_100m"] = stats["kitti_drift"]["r_rel_deg_per_100m"]
+    return result
+
+
+def run_orbslam2(planeloc, drive, data, out_prefix, settings):
+    seq = os.path.join(data, "sim", "sequences", "00")
+    gt = os.path.join(data, "sim", "poses", "00.txt")
+    est = out_prefix + ".txt"
+    cmd = [RUNNER, VOCABULARY, settings, seq, est]
+    record = {"command": command_text(cmd)}
+    try:
+        record.update(run_measured(cmd, out_prefix + ".log"))
+        record["exit"] = 0
+    except BenchError as e:  # a crash or total loss is a row that says so
+        record.update({"exit": str(e), "frames": drive["frames"], "tracked": 0})
+        return record
+    rows = []
+    with open(est + ".timing.csv") as f:
+        header = f.readline().strip().split(",")
+        for line in f:
+            rows.append(dict(zip(header, line.strip().split(","))))
+    loop_s = sum(float(r["decode_ms"]) + float(r["track_ms"]) for r in rows) / 1000.0
+    tracked = sum(1 for r in rows if r["pose_valid"] == "1")
+    record.update({"frames": len(rows), "tracked": tracked, "lost": len(rows) - tracked,
+                   "map_resets": max((int(r["map_id"]) for r in rows), default=0),
+                   "loop_s": loop_s, "fps": len(rows) / max(loop_s, 1e-9),
+                   "median_track_ms": statistics.median(float(r["track_ms"]) for r in rows)})
+    in_gt = out_prefix + ".gtframe.txt"
+    into_gt_frame(est, gt, in_gt)
+    kitti = drive["path_m"] >= bench_run.KITTI_MIN_PATH_M
+    ate = evaluate(planeloc, gt, in_gt, out_prefix, kitti)
+    record.update(ate)
+    final = est + ".final.txt"
+    if os.path.exists(final) and len(read_kitti(final)) == len(rows):
+        final_gt = out_prefix + ".final.gtframe.txt"
+        into_gt_frame(final, gt, final_gt)
+        final_ate = evaluate(planeloc, gt, final_gt, out_prefix + ".final", False)
+        record["ate_final_none_m"] = final_ate["ate_none_m"]
+        record["ate_final_se3_m"] = final_ate["ate_se3_m"]
+    return record
+
+
+def run_planeloc(planeloc, drive, data, out_prefix, row):
+    seq = os.path.join(data, "sim", "sequences", "00")
+    gt = os.path.join(data, "sim", "poses", "00.txt")
+    cmd = [planeloc, "run", "--sequence", seq, "--init-pose-from", gt]
+    if row == "vo":
+        cmd.append("--no-planes")
+    else:
+        cmd += ["--planes", os.path.join(data, "planes.json")]
+        if row == "planes-exact":
+            cmd += ["--init-sigma", "0 0 0"]
+    cmd += ["--out", out_prefix + ".txt", "--stats", out_prefix + ".jsonl"]
+    record = {}
+    try:
+        record.update(run_measured(cmd, out_prefix + ".log"))
+        record["exit"] = 0
+    except BenchError as e:
+        record.update({"exit": str(e), "command": command_text(cmd)})
+        return record
+    with open(out_prefix + ".jsonl.summary.json") as f:
+        summary = json.load(f)
+    record.update({"frames": summary["frames"], "tracked": summary["frames"] - summary["lost"],
+                   "lost": summary["lost"], "loop_s": summary["seconds"],
+                   "fps": summary["frames"] / max(summary["seconds"], 1e-9)})
+    kitti = drive["path_m"] >= bench_run.KITTI_MIN_PATH_M
+    record.update(evaluate(planeloc, gt, out_prefix + ".txt", out_prefix, kitti))
+    return record
+
+
+def summarize(runs):
+    """Median and range of each numeric field over the repeats that ran."""
+    ok = [r for r in runs if r.get("exit") == 0]
+    out = {"repeats": len(runs), "completed": len(ok),
+           "failures": [r["exit"] for r in runs if r.get("exit") != 0]}
+    fields = ["fps", "ate_none_m", "ate_se3_m", "t_rel_percent", "r_rel_deg_per_100m",
+              "peak_rss_mb", "lost", "ate_final_none_m", "ate_final_se3_m", "median_track_ms"]
+    for field in fields:
+        values = [r[field] for r in ok if field in r]
+        if values:
+            out[field] = {"median": statistics.median(values), "min": min(values),
+                          "max": max(values)}
+    cpu = [(r["user_cpu_s"] + r["system_cpu_s"]) * 1000.0 / r["frames"] for r in ok
+           if "user_cpu_s" in r and r.get("frames")]
+    if cpu:
+        out["cpu_ms_per_frame"] = {"median": statistics.median(cpu), "min": min(cpu),
+                                   "max": max(cpu)}
+    return out
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--build", default=os.environ.get("PLANELOC_BUILD_DIR",
+                                                          os.path.join(ROOT, "build")))
+    parser.add_argument("--out", help="results folder (default: BUILD/bench)")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--drives", type=bench_run.parse_drives, default=DEFAULT_DRIVES)
+    args = parser.parse_args()
+    out = args.out or os.path.join(args.build, "bench")
+    planeloc = os.path.join(args.build, "bin", "planeloc")
+    missing = [p for p in (STAMP, RUNNER, VOCABULARY) if not os.path.exists(p)]
+    if missing:
+        print(f"bench_peers.py: the ORB-SLAM2 peer is not built ({rel(missing[0])} missing): run "
+              "scripts/peers/build_orbslam2.sh first", file=sys.stderr)
+        return 2
+    if not os.path.exists(planeloc):
+        print(f"bench_peers.py: {rel(planeloc)} missing: build planeloc first", file=sys.stderr)
+        return 2
+    data_dir = os.path.join(out, "data")
+    runs_root = os.path.join(out, "peers")
+    os.makedirs(runs_root, exist_ok=True)
+    result = {"date_start": now_utc(), "commit": bench_run.git("rev-parse", "--short=7", "HEAD"),
+              "load_start": os.getloadavg(), "repeats": args.repeats,
+              "vocabulary": rel(VOCABULARY), "runner": rel(RUNNER), "drives": []}
+    try:
+        for preset, seeds in args.drives:
+            for seed in seeds:
+                drive = bench_run.prepare_drive(planeloc, data_dir, preset, seed, False)
+                data = os.path.join(ROOT, drive["dir"])
+                runs_dir = os.path.join(runs_root, f"{preset}-{seed}")
+                os.makedirs(runs_dir, exist_ok=True)
+                settings = os.path.join(runs_dir, "orbslam2.yaml")
+                run_measured([sys.executable, os.path.join(ROOT, "scripts", "peers",
+                                                           "orbslam2_settings.py"),
+                              os.path.join(data, "sim", "sequences", "00"), "-o", settings],
+                             os.path.join(runs_dir, "settings.log"))
+                runs = {row: [] for row in ROWS}
+                for repeat in range(args.repeats):
+                    for row in ROWS:
+                        print(f"--- peers {preset} seed {seed}: {row}, round {repeat + 1}",
+                              flush=True)
+                        prefix = os.path.join(runs_dir, f"{row}.{repeat}")
+                        if row == "orbslam2":
+                            record = run_orbslam2(planeloc, drive, data, prefix, settings)
+                        else:
+                            record = run_planeloc(planeloc, drive, data, prefix, row)
+                        runs[row].append(record)
+                result["drives"].append({
+                    "preset": preset, "seed": seed, "frames": drive["frames"],
+                    "path_m": drive["path_m"], "runs": runs,
+                    "summary": {row: summarize(runs[row]) for row in ROWS}})
+                with open(os.path.join(out, "peers.json"), "w") as f:  # resumable reading
+                    json.dump(result, f, indent=1)
+    except BenchError as e:
+        print(f"bench_peers.py: {e}", file=sys.stderr)
+        return 1
+    result["date_end"] = now_utc()
+    result["load_end"] = os.getloadavg()
+    with open(os.path.join(out, "peers.json"), "w") as f:
+        json.dump(result, f, indent=1)
+    print(f"wrote {rel(os.path.join(out, 'peers.json'))}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
