@@ -35,6 +35,7 @@ struct RunArgs {
   std::string init_pose_from;
   std::string init_pose;
   bool no_planes = false;
+  bool realtime = false;
   std::string planes;
   std::string init_sigma;
   std::string out;
@@ -146,6 +147,7 @@ RunOptions MakeRunOptions(const RunArgs& args) {
   options.deterministic = args.deterministic;
   options.threads = args.threads;
   options.max_frames = args.frames;
+  options.realtime = args.realtime;
   return options;
 }
 
@@ -156,6 +158,12 @@ void LogRunSummary(const RunSummary& summary) {
       summary.frames, summary.seconds, summary.frames / std::max(summary.seconds, 1e-9),
       summary.tracked, summary.lost, summary.skipped, summary.keyframes,
       summary.mean_tracked_points, summary.median_ba_reprojection_px);
+  if (summary.latency_p50_ms) {
+    spdlog::info(
+        "real-time replay: latency from a frame's arrival to its pose p50 {:.1f} ms, "
+        "p99 {:.1f} ms, max {:.1f} ms",
+        *summary.latency_p50_ms, *summary.latency_p99_ms, *summary.latency_max_ms);
+  }
   spdlog::info(
       "local BA of the {} keyframes: {} applied, {} superseded (worker busy), {} discarded (map "
       "moved), {} unusable, {} empty; {} keyframes and {} points of late results left as they "
@@ -289,6 +297,10 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
                 "Use the --config file's intrinsics and baseline instead of the sequence's "
                 "calibration");
   cmd->add_flag("--deterministic", args->deterministic, "Local BA in line: bit-identical runs");
+  cmd->add_flag("--realtime", args->realtime,
+                "Replay at the camera's rate (times.txt): each frame is read only when it would "
+                "arrive from a live camera, none is dropped, and the latency from its arrival to "
+                "its pose is logged (p50 / p99 / max) and written to --stats (latency_ms)");
   cmd->add_option("--threads", args->threads, "Threads (0 = settings' default of 2)");
   cmd->add_option("--cameras", args->cameras, "auto | grey | color")
       ->check(CLI::IsMember({"auto", "grey", "gray", "color", "colour"}))

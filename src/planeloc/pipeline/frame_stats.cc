@@ -42,6 +42,7 @@ std::string FrameStats::ToJson() const {
         fmt::format(",\"consensus_correction\":[{:.4f},{:.4f},{:.4f}]", consensus_correction->x(),
                     consensus_correction->y(), consensus_correction->z());
   }
+  if (latency_ms) json += fmt::format(",\"latency_ms\":{:.2f}", *latency_ms);
   if (crease_check) json += ",\"crease_check\":" + crease_check->ToJson();
   return json + "}";
 }

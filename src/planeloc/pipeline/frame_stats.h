@@ -30,6 +30,9 @@ struct FrameStats {
   bool keyframe = false;
   std::optional<int> keyframe_id;  // the keyframe this frame became (ba_keyframe refers to it)
   double ms_extract = 0, ms_track = 0, ms_local_map = 0, ms_ba = 0;
+  // Real-time replay (RunOptions::realtime): from the frame's arrival at its camera time to its
+  // pose written, milliseconds.
+  std::optional<double> latency_ms;
   // Median stereo reprojection error (pixels) after the last applied local BA, when one was
   // applied during this frame.
   std::optional<double> ba_median_reprojection_px;

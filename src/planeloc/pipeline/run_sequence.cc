@@ -15,6 +15,7 @@
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
+#include <thread>
 
 #include "planeloc/io/initial_pose.h"
 #include "planeloc/io/plane_map.h"
@@ -110,6 +111,10 @@ EffectiveSettings Effective(const RunOptions& run, std::optional<SettingsFile> f
   }
   TrackerOptions& options = effective.options;
   if (run.deterministic) options.deterministic = true;
+  // Frames from a live camera never wait for the local BA (LocalBA.maxLagFrames bounds how far
+  // the BA may fall behind frames that come as fast as they decode; at the camera's rate it keeps
+  // up by itself: docs/bench-tracking.md, "Real-time replay").
+  if (run.realtime) options.ba_max_lag_frames = 0;
   if (run.threads > 0) options.num_threads = run.threads;
   options.Check();
   return effective;
@@ -197,8 +202,14 @@ StartPrior ParseInitSigma(const std::string& text) {
 namespace {
 
 // The end-of-run counts and medians of the frames' stats.
+// Nearest-rank percentile (p in (0, 1]) of a non-empty sorted vector.
+double Percentile(const std::vector<double>& sorted, double p) {
+  const auto rank = static_cast<std::size_t>(std::ceil(p * static_cast<double>(sorted.size())));
+  return sorted[std::clamp<std::size_t>(rank, 1, sorted.size()) - 1];
+}
+
 void SummarizeFrames(RunSummary& summary) {
-  std::vector<double> ba_medians, edge_medians;
+  std::vector<double> ba_medians, edge_medians, latencies;
   double tracked_points = 0, plane_residuals = 0;
   int bas = 0;
   auto add_crease_check = [&](const CreaseCheckStats& check) {
@@ -208,6 +219,7 @@ void SummarizeFrames(RunSummary& summary) {
     if (check.median_edge_px) edge_medians.push_back(*check.median_edge_px);
   };
   for (const FrameStats& s : summary.stats) {
+    if (s.latency_ms) latencies.push_back(*s.latency_ms);
     ++summary.frames;
     summary.skipped += s.skipped ? 1 : 0;
     summary.lost += s.state == TrackingState::kLost ? 1 : 0;
@@ -233,6 +245,12 @@ void SummarizeFrames(RunSummary& summary) {
     summary.median_edge_px = edge_medians[edge_medians.size() / 2];
   }
   if (summary.frames > 0) summary.mean_tracked_points = tracked_points / summary.frames;
+  if (!latencies.empty()) {
+    std::sort(latencies.begin(), latencies.end());
+    summary.latency_p50_ms = Percentile(latencies, 0.5);
+    summary.latency_p99_ms = Percentile(latencies, 0.99);
+    summary.latency_max_ms = latencies.back();
+  }
   if (!ba_medians.empty()) {
     std::sort(ba_medians.begin(), ba_medians.end());
     summary.median_ba_reprojection_px = ba_medians[ba_medians.size() / 2];
@@ -283,9 +301,17 @@ std::optional<PlaneMap> ReadRunPlaneMap(const RunOptions& run) {
 
 // Tracks frames [0, total) of the sequence, writing each pose and stats line as it comes.
 void TrackFrames(const StereoSource& sequence, std::size_t total,
-                 const EffectiveSettings& effective, Tracker& tracker, TrajectoryWriter& writer,
-                 std::optional<OutputFile>& stats_out, std::optional<ProgressBar>& progress,
-                 RunSummary& summary) {
+                 const EffectiveSettings& effective, bool realtime, Tracker& tracker,
+                 TrajectoryWriter& writer, std::optional<OutputFile>& stats_out,
+                 std::optional<ProgressBar>& progress, RunSummary& summary) {
+  // Real-time replay: frame i arrives at its camera time after the first frame's.
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point replay_start = Clock::now();
+  auto arrival = [&](std::size_t i) {
+    const double seconds = std::max(0.0, sequence.timestamp(i) - sequence.timestamp(0));
+    return replay_start +
+           std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  };
   // The next frames are decoded, rectified and their features extracted and matched while frame
   // i is tracked: none of it depends on the tracker's state, and on 2 cores it otherwise sits on
   // the frame path while tracking, the local map and the keyframe's crease check run on one core.
@@ -320,17 +346,28 @@ void TrackFrames(const StereoSource& sequence, std::size_t total,
   std::array<LoadedFrame, kFramesAhead> ahead;
   // After `ahead`: on an exception each group waits for the task writing its slot.
   std::array<tbb::task_group, kFramesAhead> prefetch;
-  for (std::size_t i = 0; i < std::min(total, kFramesAhead); ++i) {
-    prefetch[i].run([&ahead, &load, i] { ahead[i] = load(i); });
-  }
+  // Real-time replay: a frame's load starts only once it has arrived (a live camera has not
+  // delivered it before). The wait is here, never inside a task: a thread waiting for one slot
+  // may run the other slot's task, and would sleep in it.
+  std::size_t launched = 0;                       // frames [0, launched) have their load started
+  auto launch_arrived = [&](std::size_t up_to) {  // starts the loads of frames < up_to that arrived
+    while (launched < std::min(up_to, total) && (!realtime || Clock::now() >= arrival(launched))) {
+      const std::size_t j = launched++;
+      const std::size_t slot = j % kFramesAhead;
+      prefetch[slot].run([&ahead, &load, slot, j] { ahead[slot] = load(j); });
+    }
+  };
+  launch_arrived(kFramesAhead);
   for (std::size_t i = 0; i < total; ++i) {
     const std::size_t slot = i % kFramesAhead;
+    if (launched == i) {  // real time: frame i has not arrived yet
+      std::this_thread::sleep_until(arrival(i));
+      launch_arrived(i + 1);
+    }
     prefetch[slot].wait();
     LoadedFrame current = std::move(ahead[slot]);
     ahead[slot] = LoadedFrame{};
-    if (i + kFramesAhead < total) {
-      prefetch[slot].run([&ahead, &load, slot, i] { ahead[slot] = load(i + kFramesAhead); });
-    }
+    launch_arrived(i + 1 + kFramesAhead);
     std::optional<StereoFeatures> features = std::move(current.features);
     if (!sequence.HasFrame(i)) {
       spdlog::warn("frame {}: image missing ({}), pose from the motion model", i,
@@ -349,10 +386,16 @@ void TrackFrames(const StereoSource& sequence, std::size_t total,
             ? tracker.TrackFeatures(std::move(*features), sequence.timestamp(i), current.ms_extract)
             : tracker.SkipFrame(sequence.timestamp(i));
     writer.Write(sequence.timestamp(i), result.world_from_cam);
-    if (stats_out) stats_out->Write(result.stats.ToJson() + '\n');
-    summary.stats.push_back(result.stats);
+    FrameStats stats = result.stats;
+    if (realtime) {
+      stats.latency_ms =
+          std::chrono::duration<double, std::milli>(Clock::now() - arrival(i)).count();
+    }
+    if (stats_out) stats_out->Write(stats.ToJson() + '\n');
+    summary.stats.push_back(stats);
     summary.world_from_cam.push_back(result.world_from_cam);
     if (progress) progress->Update(i + 1);
+    launch_arrived(i + 1 + kFramesAhead);
   }
 }
 
@@ -391,7 +434,8 @@ RunSummary RunSequence(const RunOptions& run) {
   std::optional<ProgressBar> progress;
   if (run.show_progress) progress.emplace("run", total, "frames");
   const auto start = std::chrono::steady_clock::now();
-  TrackFrames(sequence, total, effective, tracker, writer, stats_out, progress, summary);
+  TrackFrames(sequence, total, effective, run.realtime, tracker, writer, stats_out, progress,
+              summary);
   tracker.Finish();
   writer.Close();
   if (stats_out) stats_out->Commit();
@@ -415,7 +459,7 @@ RunSummary RunSequence(const RunOptions& run) {
 }
 
 std::string RunSummary::ToJson() const {
-  return fmt::format(
+  std::string json = fmt::format(
       "{{\"frames\":{},\"tracked\":{},\"lost\":{},\"skipped\":{},\"keyframes\":{},"
       "\"mean_tracked_points\":{:.1f},\"median_ba_reprojection_px\":{:.4f},\"planes\":{},"
       "\"mean_ba_plane_residuals\":{:.1f},\"planes_disabled\":{},\"consensus_corrections\":{},"
@@ -423,6 +467,12 @@ std::string RunSummary::ToJson() const {
       frames, tracked, lost, skipped, keyframes, mean_tracked_points, median_ba_reprojection_px,
       planes, mean_ba_plane_residuals, planes_disabled, consensus_corrections, seconds,
       final_map_lock, lock_events.size(), ba.ToJson());
+  if (latency_p50_ms) {
+    json.pop_back();  // the closing brace
+    json += fmt::format(",\"latency_ms\":{{\"p50\":{:.2f},\"p99\":{:.2f},\"max\":{:.2f}}}}}",
+                        *latency_p50_ms, *latency_p99_ms, *latency_max_ms);
+  }
+  return json;
 }
 
 }  // namespace planeloc

@@ -50,6 +50,11 @@ struct RunOptions {
   std::optional<std::filesystem::path> report_dir;
   int report_keyframe_images = 4;
   bool deterministic = false;
+  // Replay at the camera's rate: frame i arrives (and only then is decoded) at its times.txt time
+  // after the first frame's, as from a live camera; nothing is dropped. Each frame's latency,
+  // arrival to pose, goes into its stats and the summary. The frame thread never waits for the
+  // local BA (LocalBA.maxLagFrames 0).
+  bool realtime = false;
   int threads = 0;     // 0: keep the settings' value
   int max_frames = 0;  // 0: all
   bool show_progress = true;
@@ -68,13 +73,15 @@ struct RunSummary {
   int planes_disabled = 0;               // planes disabled during the run (biased, see tracking)
   int consensus_corrections = 0;         // map moves by the planes' consensus (trajectoryConsensus)
   double seconds = 0;                    // wall time of the tracking loop
-  BaCounts ba;                           // what became of every keyframe's local BA
-  std::vector<FrameStats> stats;         // per frame
-  std::vector<Rigid3d> world_from_cam;   // per frame, as written
-  std::vector<LockEvent> lock_events;    // map-frame corrections, in order
-  std::string final_map_lock;            // "" without a plane map
-  TrackerOptions options;                // effective
-  StereoCamera camera;                   // effective (sequence or settings calibration)
+  // Real-time replay only: frame latency (arrival to pose) percentiles, milliseconds.
+  std::optional<double> latency_p50_ms, latency_p99_ms, latency_max_ms;
+  BaCounts ba;                          // what became of every keyframe's local BA
+  std::vector<FrameStats> stats;        // per frame
+  std::vector<Rigid3d> world_from_cam;  // per frame, as written
+  std::vector<LockEvent> lock_events;   // map-frame corrections, in order
+  std::string final_map_lock;           // "" without a plane map
+  TrackerOptions options;               // effective
+  StereoCamera camera;                  // effective (sequence or settings calibration)
   // The LSD crease check (crease_check.h) over the checked keyframes: their number, the mean
   // visible and confirmed creases and the median of their median edge distances (px).
   int crease_keyframes = 0;
