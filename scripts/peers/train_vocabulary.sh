@@ -66,10 +66,16 @@ mv "$list.tmp" "$list"
 voc="$out/orbvoc.txt"
 [[ $variant == alt ]] && voc="$out/orbvoc-alt.txt"
 echo "train_vocabulary: $(wc -l <"$list") images -> $voc (k=$k, L=$levels) ..." >&2
-stats="$(nice -n 10 "$trainer" "$k" "$levels" "$list" "$voc")"
+# ORBextractor breaks ties in its octree split by heap address (it sorts (size, node pointer)
+# pairs), so with address-space randomisation the same image can give slightly different
+# keypoints from run to run; setarch -R turns randomisation off and makes the vocabulary
+# reproducible (checked: two trainings, identical files).
+norand=()
+if setarch "$(uname -m)" -R true 2>/dev/null; then norand=(setarch "$(uname -m)" -R); fi
+stats="$(nice -n 10 "${norand[@]}" "$trainer" "$k" "$levels" "$list" "$voc")"
 {
   echo "vocabulary: $(basename "$voc") (trained $(date -u +%F) by scripts/peers/train_vocabulary.sh${1:+ $1})"
-  echo "trainer: ORB-SLAM2's ORBextractor(2000, 1.2, 8, 20, 7) + bundled DBoW2, TF-IDF, L1, fixed seed"
+  echo "trainer: ORB-SLAM2's ORBextractor(2000, 1.2, 8, 20, 7) + bundled DBoW2, TF-IDF, L1, fixed seed${norand[*]:+, ${norand[*]}}"
   printf 'source: %s\n' "${sources[@]}"
   echo "$stats"
 } >"$voc.info"
