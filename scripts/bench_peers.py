@@ -12,6 +12,8 @@ the other on the same machine:
   planes-exact   planeloc run --planes, --init-sigma "0 0 0" (the exact start, no map lock)
   planes-prior   planeloc run --planes with the default prior "2 0.5 5" given the exact pose (the
                  path a user takes; the run registers itself to the map)
+  planes-realtime  planes-exact with --realtime: frames arrive at the camera's rate (10 Hz) and
+                 each frame's latency from arrival to pose is measured (p50 / p99 / max)
 
 Interleaved rounds put the machine's load on every row alike. Per run: frames per second (frames /
 the tracking loop's wall time, image decoding included, start-up and vocabulary loading not),
@@ -41,7 +43,7 @@ RUNNER = os.path.join(PEERS, "bin", "orbslam2_stereo_kitti")
 VOCABULARY = os.path.join(PEERS, "vocabulary", "orbvoc.txt")
 STAMP = os.path.join(PEERS, ".orbslam2.stamp")
 DEFAULT_DRIVES = [("small", [3, 11, 21]), ("kitti07-like", [1, 2])]
-ROWS = ["orbslam2", "vo", "planes-exact", "planes-prior"]
+ROWS = ["orbslam2", "vo", "planes-exact", "planes-prior", "planes-realtime"]
 
 
 def read_kitti(path):
@@ -137,8 +139,10 @@ def run_planeloc(planeloc, drive, data, out_prefix, row):
         cmd.append("--no-planes")
     else:
         cmd += ["--planes", os.path.join(data, "planes.json")]
-        if row == "planes-exact":
+        if row in ("planes-exact", "planes-realtime"):
             cmd += ["--init-sigma", "0 0 0"]
+        if row == "planes-realtime":
+            cmd.append("--realtime")
     cmd += ["--out", out_prefix + ".txt", "--stats", out_prefix + ".jsonl"]
     record = {}
     try:
@@ -152,6 +156,8 @@ def run_planeloc(planeloc, drive, data, out_prefix, row):
     record.update({"frames": summary["frames"], "tracked": summary["frames"] - summary["lost"],
                    "lost": summary["lost"], "loop_s": summary["seconds"],
                    "fps": summary["frames"] / max(summary["seconds"], 1e-9)})
+    for key, value in summary.get("latency_ms", {}).items():
+        record[f"latency_{key}_ms"] = value
     kitti = drive["path_m"] >= bench_run.KITTI_MIN_PATH_M
     record.update(evaluate(planeloc, gt, out_prefix + ".txt", out_prefix, kitti))
     return record
@@ -163,7 +169,8 @@ def summarize(runs):
     out = {"repeats": len(runs), "completed": len(ok),
            "failures": [r["exit"] for r in runs if r.get("exit") != 0]}
     fields = ["fps", "ate_none_m", "ate_se3_m", "t_rel_percent", "r_rel_deg_per_100m",
-              "peak_rss_mb", "lost", "ate_final_none_m", "ate_final_se3_m", "median_track_ms"]
+              "peak_rss_mb", "lost", "ate_final_none_m", "ate_final_se3_m", "median_track_ms",
+              "latency_p50_ms", "latency_p99_ms", "latency_max_ms"]
     for field in fields:
         values = [r[field] for r in ok if field in r]
         if values:

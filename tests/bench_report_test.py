@@ -77,12 +77,12 @@ class BenchReportTest(unittest.TestCase):
         vo = self.row("Same run as ORB-SLAM2", "planeloc VO")
         self.assertEqual(vo[5], "2.00")  # fps 40 / 20, goal >= 1.5: not bold
         self.assertEqual(vo[10], "**1.25**")  # ATE 0.250 / 0.200 above the peer's
-        self.assertEqual(vo[14], "0.45")  # RSS 180 / 400
+        self.assertEqual(vo[15], "0.45")  # RSS 180 / 400
         exact = self.row("Same run as ORB-SLAM2", "planes, exact start")
         self.assertEqual(exact[10], "0.25")  # 0.050 / 0.200, goal <= 0.5
         prior = self.row("Same run as ORB-SLAM2", "planes, default prior")
         self.assertEqual(prior[10], "**0.60**")  # 0.120 / 0.200 misses the goal
-        self.assertEqual(prior[14], "**0.53**")  # RSS 210 / 400 > 0.5
+        self.assertEqual(prior[15], "**0.53**")  # RSS 210 / 400 > 0.5
         self.assertIn("1/2 (exit code 2", prior[3])  # the failed round is in the row
         peer = self.row("Same run as ORB-SLAM2", "ORB-SLAM2 (stereo")
         self.assertEqual(peer[6], "90.0 (85.0–95.0)")
@@ -91,6 +91,11 @@ class BenchReportTest(unittest.TestCase):
         self.assertIn("frame rate: 1 of 1 drives; at or below its ATE: 0 of 1", goals)
         self.assertIn("default prior: 0 of 1 drives", goals)
         self.assertIn("every planeloc row: 0 of 1 drives", goals)
+        realtime = self.row("Same run as ORB-SLAM2", "--realtime (10 Hz)")
+        self.assertEqual(realtime[13], "40 (38–42) / 90 (80–120)")  # p50 / p99 over the rounds
+        # p99 90 <= 100 ms; ATE 0.060 > 1.1 x the exact start's 0.050.
+        self.assertIn("(plane mode, `--realtime`): 1 of 1 drives; its ATE within 1.1× of the "
+                      "exact start at full speed: 0 of 1", goals)
 
     def test_google_benchmark_ratios(self):
         # ORB: process_cpu_ms 12.0 / 8.0 = 1.50 (not the main-thread cpu_time 11.0 / 7.5).
