@@ -532,6 +532,12 @@ settings_case scale "$work/scale.yaml:3:" $'%YAML:1.0\nThDepth: 35\nORBextractor
 settings_case fisheye "$work/fisheye.yaml" $'%YAML:1.0\nCamera.type: "KannalaBrandt8"\n'
 settings_case raw_rig "$work/raw_rig.yaml:2:" $'%YAML:1.0\nLEFT.K: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n  data: [458, 0, 367, 0, 457, 248, 0, 0, 1]\n'
 settings_case nan_fx "$work/nan_fx.yaml:2:" $'%YAML:1.0\nCamera.fx: .nan\nCamera.fy: 700\nCamera.cx: 600\nCamera.cy: 180\nCamera.bf: 380\n'
+# Issue 37: a baseline 100x too large (Camera.bf) is the camera driving at about 1 km/s.
+awk '/^P0:/ {printf "%%YAML:1.0\nCamera.fx: %s\nCamera.fy: %s\nCamera.cx: %s\nCamera.cy: %s\n", $2, $7, $4, $8}
+     /^P1:/ {printf "Camera.bf: %.6f\n", -100 * $5}' "$seq/calib.txt" >"$work/bf100.yaml"
+expect 2 "$work/bf100.yaml" "run --calib-from-settings bf x100" "$work/t.txt" -- \
+  "$planeloc" run --sequence "$seq" --no-planes --config "$work/bf100.yaml" --calib-from-settings \
+  --out "$work/t.txt"
 expect 2 "$work/nosettings.yaml" "run missing settings" "$work/t.txt" -- \
   "$planeloc" run --sequence "$seq" --no-planes --config "$work/nosettings.yaml" --out "$work/t.txt"
 options_case() {  # NAME NEEDLE TEXT

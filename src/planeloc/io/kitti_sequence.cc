@@ -362,6 +362,7 @@ void KittiSequence::ListFrames(const fs::path& left_dir, const fs::path& right_d
 
 void KittiSequence::SetCameraFromCalib(const KittiCalibFile& calib, const std::string& left_key,
                                        const std::string& right_key) {
+  camera_calibration_path_ = calib.path();
   const cv::Size size = ReadImageSize(left_images_.front());
   const cv::Size right_size = ReadImageSize(right_images_.front());
   CheckInput(right_size == size, right_images_.front().string(), 0,

@@ -42,6 +42,7 @@ class KittiSequence : public StereoSource {
   KittiLayout layout() const { return layout_; }
   const std::filesystem::path& folder() const { return folder_; }
   std::string name() const override { return folder_.string(); }
+  std::string calibration_name() const override { return camera_calibration_path_.string(); }
   std::size_t size() const override { return timestamps_.size(); }
   // Rectified stereo camera of the chosen pair, image size taken from the first left image.
   const StereoCamera& camera() const override { return camera_; }
@@ -95,7 +96,8 @@ class KittiSequence : public StereoSource {
   std::vector<double> timestamps_;
   StereoCamera camera_;
   std::optional<Rigid3d> cam_from_velo_;
-  std::filesystem::path velo_calibration_path_;  // where cam_from_velo_ comes from, or would
+  std::filesystem::path velo_calibration_path_;    // where cam_from_velo_ comes from, or would
+  std::filesystem::path camera_calibration_path_;  // where camera_ comes from
   std::optional<std::vector<Rigid3d>> ground_truth_;
 };
 

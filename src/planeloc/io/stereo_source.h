@@ -24,6 +24,8 @@ class StereoSource {
   virtual std::size_t size() const = 0;
   // The rectified stereo camera of every frame.
   virtual const StereoCamera& camera() const = 0;
+  // Where camera() comes from (a calibration file, for messages); name() when not a file.
+  virtual std::string calibration_name() const { return name(); }
   // Seconds (the source's clock), increasing.
   virtual double timestamp(std::size_t index) const = 0;
   // Decodes frame `index`. Throws InputError naming the file or topic when it cannot. RunSequence

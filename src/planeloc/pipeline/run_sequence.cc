@@ -299,10 +299,50 @@ std::optional<PlaneMap> ReadRunPlaneMap(const RunOptions& run) {
   return plane_map;
 }
 
+// A wrong stereo baseline scales the whole trajectory: bf x 100 turns a car at 10 m/s into one
+// at 1 km/s, with nothing else looking wrong. Over the first half second of camera time the speed
+// is checked against what any vehicle or handheld rig can do. Throws InputError naming the
+// calibration (the frames written so far stay in the trajectory file).
+class CalibrationSpeedCheck {
+ public:
+  explicit CalibrationSpeedCheck(std::string calibration) : calibration_(std::move(calibration)) {}
+
+  void Add(const StereoSource& sequence, std::size_t i, const Rigid3d& world_from_cam) {
+    if (done_) return;
+    if (i == 0) {
+      first_position_ = world_from_cam.translation;
+      return;
+    }
+    const double seconds = sequence.timestamp(i) - sequence.timestamp(0);
+    if (seconds < kWindowSeconds || i < kMinFrames) return;
+    done_ = true;
+    const double speed = (world_from_cam.translation - first_position_).norm() / seconds;
+    if (speed <= kMaxSpeed) return;
+    throw InputError(
+        calibration_, 0,
+        fmt::format("the stereo calibration makes the camera move at {:.0f} m/s over the first "
+                    "{:.1f} s (frames 0-{}; at most {:.0f} m/s is plausible): its baseline "
+                    "(bf = fx x baseline in metres) is wrong, about {:.0f}x too large for a "
+                    "camera at 10 m/s",
+                    speed, seconds, i, kMaxSpeed, speed / kTypicalSpeed),
+        "correct the baseline (the settings' Camera.bf, or the right camera's projection P1 / "
+        "P_rect_01 in calib.txt); with --calib-from-settings, try without it");
+  }
+
+ private:
+  static constexpr double kWindowSeconds = 0.5;
+  static constexpr std::size_t kMinFrames = 5;
+  static constexpr double kMaxSpeed = 100.0;     // m/s, 360 km/h
+  static constexpr double kTypicalSpeed = 10.0;  // m/s, for the factor in the message
+  std::string calibration_;
+  Eigen::Vector3d first_position_ = Eigen::Vector3d::Zero();
+  bool done_ = false;
+};
+
 // Tracks frames [0, total) of the sequence, writing each pose and stats line as it comes.
 void TrackFrames(const StereoSource& sequence, std::size_t total,
-                 const EffectiveSettings& effective, bool realtime, Tracker& tracker,
-                 TrajectoryWriter& writer, std::optional<OutputFile>& stats_out,
+                 const EffectiveSettings& effective, const std::string& calibration, bool realtime,
+                 Tracker& tracker, TrajectoryWriter& writer, std::optional<OutputFile>& stats_out,
                  std::optional<ProgressBar>& progress, RunSummary& summary) {
   // Real-time replay: frame i arrives at its camera time after the first frame's.
   using Clock = std::chrono::steady_clock;
@@ -349,6 +389,7 @@ void TrackFrames(const StereoSource& sequence, std::size_t total,
   // Real-time replay: a frame's load starts only once it has arrived (a live camera has not
   // delivered it before). The wait is here, never inside a task: a thread waiting for one slot
   // may run the other slot's task, and would sleep in it.
+  CalibrationSpeedCheck speed_check(calibration);
   std::size_t launched = 0;                       // frames [0, launched) have their load started
   auto launch_arrived = [&](std::size_t up_to) {  // starts the loads of frames < up_to that arrived
     while (launched < std::min(up_to, total) && (!realtime || Clock::now() >= arrival(launched))) {
@@ -386,6 +427,7 @@ void TrackFrames(const StereoSource& sequence, std::size_t total,
             ? tracker.TrackFeatures(std::move(*features), sequence.timestamp(i), current.ms_extract)
             : tracker.SkipFrame(sequence.timestamp(i));
     writer.Write(sequence.timestamp(i), result.world_from_cam);
+    speed_check.Add(sequence, i, result.world_from_cam);
     FrameStats stats = result.stats;
     if (realtime) {
       stats.latency_ms =
@@ -434,8 +476,10 @@ RunSummary RunSequence(const RunOptions& run) {
   std::optional<ProgressBar> progress;
   if (run.show_progress) progress.emplace("run", total, "frames");
   const auto start = std::chrono::steady_clock::now();
-  TrackFrames(sequence, total, effective, run.realtime, tracker, writer, stats_out, progress,
-              summary);
+  const std::string calibration = effective.calibration_from_settings ? run.settings_path->string()
+                                                                      : sequence.calibration_name();
+  TrackFrames(sequence, total, effective, calibration, run.realtime, tracker, writer, stats_out,
+              progress, summary);
   tracker.Finish();
   writer.Close();
   if (stats_out) stats_out->Commit();
