@@ -25,12 +25,11 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <opencv2/core/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <opencv2/core/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "System.h"
 
@@ -49,12 +48,18 @@ bool FileReadable(const std::string& path) {
 
 const char* StateName(int state) {
   switch (state) {
-    case -1: return "SYSTEM_NOT_READY";
-    case 0: return "NO_IMAGES_YET";
-    case 1: return "NOT_INITIALIZED";
-    case 2: return "OK";
-    case 3: return "LOST";
-    default: return "UNKNOWN";
+    case -1:
+      return "SYSTEM_NOT_READY";
+    case 0:
+      return "NO_IMAGES_YET";
+    case 1:
+      return "NOT_INITIALIZED";
+    case 2:
+      return "OK";
+    case 3:
+      return "LOST";
+    default:
+      return "UNKNOWN";
   }
 }
 
@@ -89,15 +94,14 @@ bool LoadSequence(const std::string& dir, std::vector<std::string>* left,
 }
 
 size_t CountTracked(const std::vector<ORB_SLAM2::MapPoint*>& points) {
-  return static_cast<size_t>(std::count_if(points.begin(), points.end(),
-                                           [](const ORB_SLAM2::MapPoint* p) { return p != nullptr; }));
+  return static_cast<size_t>(std::count_if(
+      points.begin(), points.end(), [](const ORB_SLAM2::MapPoint* p) { return p != nullptr; }));
 }
 
 void WritePose(std::ostream& out, const cv::Mat& Twc) {
   out << std::setprecision(9);
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c)
-      out << Twc.at<float>(r, c) << ((r == 2 && c == 3) ? '\n' : ' ');
+    for (int c = 0; c < 4; ++c) out << Twc.at<float>(r, c) << ((r == 2 && c == 3) ? '\n' : ' ');
 }
 
 }  // namespace
@@ -110,7 +114,8 @@ int main(int argc, char** argv) {
                  "  OUT_POSES.final.txt; ORBSLAM2_LOOP_CLOSING=1 enables loop closing\n";
     return 2;
   }
-  const std::string vocabulary = argv[1], settings = argv[2], sequence = argv[3], out_path = argv[4];
+  const std::string vocabulary = argv[1], settings = argv[2], sequence = argv[3],
+                    out_path = argv[4];
   for (const std::string& f : {vocabulary, settings}) {
     if (!FileReadable(f)) {
       std::cerr << "orbslam2_stereo_kitti: cannot read " << f << "\n";

@@ -16,11 +16,10 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
-#include <string>
-#include <vector>
-
 #include <opencv2/core/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
 
 #include "DBoW2/FORB.h"
 #include "DBoW2/TemplatedVocabulary.h"
@@ -80,7 +79,7 @@ int main(int argc, char** argv) {
 
   DUtils::Random::SeedRandOnce(20261203);
   DBoW2::TemplatedVocabulary<DBoW2::FORB::TDescriptor, DBoW2::FORB> voc(k, levels, DBoW2::TF_IDF,
-                                                                         DBoW2::L1_NORM);
+                                                                        DBoW2::L1_NORM);
   voc.create(features);
   const double total_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
