@@ -201,13 +201,13 @@ StartPrior ParseInitSigma(const std::string& text) {
 
 namespace {
 
-// The end-of-run counts and medians of the frames' stats.
 // Nearest-rank percentile (p in (0, 1]) of a non-empty sorted vector.
 double Percentile(const std::vector<double>& sorted, double p) {
   const auto rank = static_cast<std::size_t>(std::ceil(p * static_cast<double>(sorted.size())));
   return sorted[std::clamp<std::size_t>(rank, 1, sorted.size()) - 1];
 }
 
+// The end-of-run counts and medians of the frames' stats.
 void SummarizeFrames(RunSummary& summary) {
   std::vector<double> ba_medians, edge_medians, latencies;
   double tracked_points = 0, plane_residuals = 0;
@@ -386,10 +386,10 @@ void TrackFrames(const StereoSource& sequence, std::size_t total,
   std::array<LoadedFrame, kFramesAhead> ahead;
   // After `ahead`: on an exception each group waits for the task writing its slot.
   std::array<tbb::task_group, kFramesAhead> prefetch;
+  CalibrationSpeedCheck speed_check(calibration);
   // Real-time replay: a frame's load starts only once it has arrived (a live camera has not
   // delivered it before). The wait is here, never inside a task: a thread waiting for one slot
   // may run the other slot's task, and would sleep in it.
-  CalibrationSpeedCheck speed_check(calibration);
   std::size_t launched = 0;                       // frames [0, launched) have their load started
   auto launch_arrived = [&](std::size_t up_to) {  // starts the loads of frames < up_to that arrived
     while (launched < std::min(up_to, total) && (!realtime || Clock::now() >= arrival(launched))) {
