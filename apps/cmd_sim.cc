@@ -23,6 +23,7 @@ struct SimArgs {
   std::string lighting = "constant";
   std::string texture_dir;
   std::string trajectory;
+  std::optional<std::string> changes;
   bool force = false;
 };
 
@@ -38,6 +39,7 @@ int Run(const SimArgs& args) {
   options.lighting = sim::ParseLighting(args.lighting);
   options.texture_dir = args.texture_dir;
   options.trajectory_path = args.trajectory;
+  if (args.changes) options.changes = sim::ParseWorldChanges(*args.changes);
   const auto start = std::chrono::steady_clock::now();
   const sim::SimResult result = sim::GenerateSequence(options, args.out, args.force);
   const double seconds =
@@ -46,6 +48,12 @@ int Run(const SimArgs& args) {
                options.preset, options.seed, args.lighting, seconds, args.out);
   spdlog::info("sim: sequence {}, poses {}, GT planes {}", result.sequence_dir.string(),
                result.poses_path.string(), result.planes_path.string());
+  if (options.changes.Any()) {
+    spdlog::info(
+        "sim: changes {}: the LiDAR scans the mapping-time world, the cameras the world "
+        "now (labels in {}, counts in world/README.txt)",
+        options.changes.ToSpec(), result.planes_path.string());
+  }
   return 0;
 }
 
@@ -64,6 +72,9 @@ const CommandRegistrar kRegistrar("sim", [](CLI::App& app) -> CommandRunner {
   cmd->add_option("--texture-dir", args->texture_dir, "Folder of facade images (png/jpg)");
   cmd->add_option("--trajectory", args->trajectory,
                   "KITTI pose file to drive along (e.g. poses/07.txt); --frames takes the first N");
+  cmd->add_option("--changes", args->changes,
+                  "World changed since the LiDAR map: renovation | none | "
+                  "moved=F,offset=MIN:MAX,removed=N,new=N,cars=N (docs/sim.md)");
   cmd->add_flag("--force", args->force, "Overwrite the simulator's files in a non-empty --out");
   return [args] { return Run(*args); };
 });

@@ -3,12 +3,14 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/sim/world.h"
+#include "planeloc/sim/world_changes.h"
 
 namespace planeloc::sim {
 
@@ -24,5 +26,14 @@ void WriteScan(const std::filesystem::path& path, const VelodyneScan& scan);
 // "polygon","centroid","area"}], "stats":{...}}, readable by planeloc::ReadPlaneMap.
 void WritePlanesGt(const std::filesystem::path& path, const World& world,
                    const Rigid3d& out_from_world);
+// The same file for a changed world (--changes): "planes" holds the mapping-time planes (what the
+// LiDAR saw: the planes of a map), each with "change": "unchanged" | "moved" (+ "offset_m") |
+// "removed"; "new_planes" holds the walls built since ("change": "new"), which existing readers
+// (ReadPlaneMap) do not load, so the file stays a prior map of the world at mapping time.
+// "stats"."changes" gives the spec and the counts. `labels` is indexed by plane id of `now`.
+void WritePlanesGtWithChanges(const std::filesystem::path& path, const World& at_mapping,
+                              const World& now, const std::vector<PlaneChangeLabel>& labels,
+                              const ChangeCounts& counts, const std::string& spec,
+                              const Rigid3d& out_from_world);
 
 }  // namespace planeloc::sim

@@ -136,6 +136,27 @@ void ScenarioFromPreset(const SimOptions& options, int frames, Scenario* out, St
   out->world_from_cam = DriveAlong(lane, frames, drive, HashCombine(options.seed, 2u));
 }
 
+// --changes: the town becomes the mapping-time world (LiDAR) and a changed one (cameras). A preset
+// draws its change sites along the preset's whole drive, so they do not depend on --frames.
+void ApplyChanges(const SimOptions& options, const StreetPath& street, Scenario* scenario) {
+  std::vector<Rigid3d> drive = scenario->world_from_cam;
+  const int preset_frames = PresetFrames(options.preset);
+  if (options.trajectory_path.empty() && static_cast<int>(drive.size()) < preset_frames) {
+    Scenario whole;
+    StreetPath same_street;
+    ScenarioFromPreset(options, preset_frames, &whole, &same_street);
+    drive = std::move(whole.world_from_cam);
+  }
+  std::vector<Eigen::Vector3d> camera_centres;
+  for (const Rigid3d& pose : drive) camera_centres.push_back(pose.translation);
+  ChangedWorld changed =
+      ApplyWorldChanges(scenario->world, street, camera_centres, options.changes, options.seed);
+  scenario->world = std::move(changed.now);
+  scenario->mapping_world = std::move(changed.at_mapping);
+  scenario->plane_changes = std::move(changed.labels);
+  scenario->change_counts = changed.counts;
+}
+
 void PrepareOutput(const fs::path& out_dir, bool force) {
   std::error_code error;
   if (fs::exists(out_dir, error)) {
@@ -177,8 +198,15 @@ void WriteReadme(const fs::path& path, const SimOptions& o, const Scenario& s) {
       << "\ntexture_dir: " << (o.texture_dir.empty() ? "(procedural)" : o.texture_dir.string())
       << "\npath_length_m: " << s.path_length << "\ngt_planes: " << s.world.planes.size()
       << "\nprimitives: " << s.world.quads.size() << " quads, " << s.world.spheres.size()
-      << " spheres, " << s.world.cylinders.size() << " cylinders\n"
-      << "poses/00.txt and world/planes_gt.json share one frame: camera 0 at frame 0 "
+      << " spheres, " << s.world.cylinders.size() << " cylinders\n";
+  if (s.mapping_world) {
+    const ChangeCounts& c = s.change_counts;
+    out << "changes: " << o.changes.ToSpec() << " (" << c.moved_facades << " facades moved, "
+        << c.removed_buildings << " buildings removed, " << c.new_walls << " walls new, "
+        << c.parked_cars << " cars parked at mapping time only; the LiDAR scans the mapping-time "
+        << "world, the cameras the world now)\n";
+  }
+  out << "poses/00.txt and world/planes_gt.json share one frame: camera 0 at frame 0 "
          "(x right, y down, z forward).\n";
   WriteFileWhole(path, out.str());
 }
@@ -208,6 +236,7 @@ void SimOptions::Check() const {
              "unknown preset '" + preset + "'", std::string("use one of: ") + kPresets);
   CheckInput(!frames || *frames > 0, "", 0, "--frames must be positive",
              "pass a frame count >= 1, or omit --frames for the preset's length");
+  changes.Check();
   if (!texture_dir.empty()) {
     std::error_code error;
     CheckInput(fs::is_directory(texture_dir, error), texture_dir.string(), 0,
@@ -253,6 +282,7 @@ Scenario BuildScenario(const SimOptions& options) {
                        &street);
   }
   scenario.world = BuildTown(street, HashCombine(options.seed, 1u));
+  if (options.changes.Any()) ApplyChanges(options, street, &scenario);
   scenario.cam0_from_world = scenario.world_from_cam.front().Inverse();
   for (std::size_t i = 1; i < scenario.world_from_cam.size(); ++i) {
     scenario.path_length +=
@@ -284,11 +314,26 @@ SimResult GenerateSequence(const SimOptions& options, const fs::path& out_dir, b
   WriteCalib(result.sequence_dir / "calib.txt", result.camera, Kitti07Tr());
   WriteTimes(result.sequence_dir / "times.txt", result.frames, kRateHz);
   WritePoses(result.poses_path, result.world_from_cam);
-  WritePlanesGt(result.planes_path, scenario.world, scenario.cam0_from_world);
+  if (scenario.mapping_world) {
+    WritePlanesGtWithChanges(result.planes_path, *scenario.mapping_world, scenario.world,
+                             scenario.plane_changes, scenario.change_counts,
+                             options.changes.ToSpec(), scenario.cam0_from_world);
+  } else {
+    WritePlanesGt(result.planes_path, scenario.world, scenario.cam0_from_world);
+  }
   WriteReadme(out_dir / "world" / "README.txt", options, scenario);
 
   const Scene scene(scenario.world);
   const Shader shader(scenario.world, bank);
+  // With --changes the LiDAR scans the mapping-time world; otherwise the cameras' world.
+  std::optional<Scene> mapping_scene;
+  std::optional<Shader> mapping_shader;
+  if (scenario.mapping_world) {
+    mapping_scene.emplace(*scenario.mapping_world);
+    mapping_shader.emplace(*scenario.mapping_world, bank);
+  }
+  const Scene& lidar_scene = mapping_scene ? *mapping_scene : scene;
+  const Shader& lidar_shader = mapping_shader ? *mapping_shader : shader;
   const Rigid3d left_from_right(Eigen::Quaterniond::Identity(),
                                 Eigen::Vector3d(result.camera.baseline, 0, 0));
   std::optional<ProgressBar> progress;  // none at all when disabled (not even a final line)
@@ -309,7 +354,7 @@ SimResult GenerateSequence(const SimOptions& options, const fs::path& out_dir, b
       const cv::Mat right = RenderView(scene, shader, result.camera,
                                        world_from_cam * left_from_right, light, seed(1));
       const VelodyneScan scan =
-          ScanLidar(scene, shader, world_from_cam * result.cam_from_velo, seed(2));
+          ScanLidar(lidar_scene, lidar_shader, world_from_cam * result.cam_from_velo, seed(2));
       const std::string png = FrameName(f, "png");
       WritePng(result.sequence_dir / "image_0" / png, left);
       WritePng(result.sequence_dir / "image_1" / png, right);

@@ -7,7 +7,10 @@
 //   DIR/sequences/00/{calib.txt,times.txt}          KITTI-07 intrinsics and Tr (cam_from_velo)
 //   DIR/poses/00.txt                                world_from_cam of camera 0, first = identity
 //   DIR/world/planes_gt.json                        GT planes in the poses' frame (ReadPlaneMap)
-//   DIR/world/README.txt                            seed, preset, lighting
+//   DIR/world/README.txt                            seed, preset, lighting (, changes)
+//
+// With SimOptions::changes (--changes) the LiDAR scans the world at mapping time and the cameras
+// see it changed; planes_gt.json labels every plane (world_changes.h).
 //
 // Other modules' tests call GenerateSequence(SimOptions::FromPreset("tiny"), dir) to get data.
 #pragma once
@@ -21,6 +24,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/sim/world.h"
+#include "planeloc/sim/world_changes.h"
 
 namespace planeloc::sim {
 
@@ -40,9 +44,11 @@ struct SimOptions {
   Lighting lighting = Lighting::kConstant;
   std::filesystem::path texture_dir;      // images mapped onto facades; empty = procedural
   std::filesystem::path trajectory_path;  // KITTI pose file to drive along; empty = preset path
+  WorldChangesOptions changes;            // --changes: the LiDAR's world vs the cameras'; none
   bool show_progress = true;              // progress bar on stderr (only when it is a terminal)
 
-  // Throws InputError for an unknown preset, frames <= 0, or an unreadable texture dir / pose file.
+  // Throws InputError for an unknown preset, frames <= 0, an unreadable texture dir / pose file,
+  // or changes out of range.
   void Check() const;
   // Defaults of a named preset; throws InputError for an unknown name.
   static SimOptions FromPreset(const std::string& name);
@@ -68,10 +74,17 @@ SimResult GenerateSequence(const SimOptions& options, const std::filesystem::pat
 // The world and the camera motion of a run, before any rendering (tests and tools use it to
 // compare sensor output with the truth). W is the simulator's z-up world frame (ground z = 0).
 struct Scenario {
-  World world;                          // primitives and GT planes in W
+  World world;  // primitives and GT planes in W; with changes, the world the cameras see now
+  // With changes only: the world at mapping time, which the LiDAR scans (unset: `world`).
+  std::optional<World> mapping_world;
+  // With changes only: one label per plane id of `world.planes` (empty without changes).
+  std::vector<PlaneChangeLabel> plane_changes;
+  ChangeCounts change_counts;           // with changes: what was changed
   std::vector<Rigid3d> world_from_cam;  // camera-0 poses in W, one per frame
   Rigid3d cam0_from_world;              // W -> the frame of poses/00.txt and planes_gt.json
   double path_length = 0.0;             // metres driven
+
+  const World& LidarWorld() const { return mapping_world ? *mapping_world : world; }
 };
 // Throws InputError like SimOptions::Check (and for a malformed --trajectory file).
 Scenario BuildScenario(const SimOptions& options);

@@ -230,6 +230,8 @@ void AddBuildings(Context& c) {
       b.height = floors * style.floor_height + c.U(0.6, 1.5);
       b.style = static_cast<int>(c.world.facade_styles.size());
       c.world.facade_styles.push_back(style);
+      const Footprint& f = b.footprint;
+      c.world.buildings.push_back({f.centre, f.axis_u, f.axis_v, f.half_u, f.half_v, b.height});
       if (abut && !row.empty()) {  // shared wall: only the part above the lower one shows
         Building& prev = row.back();
         const int prev_far = 1;  // prev's +u face touches this building's -u face
@@ -316,10 +318,7 @@ void AddCars(Context& c) {
       const double heading =
           std::atan2(m.t.y(), m.t.x()) + (side > 0 ? M_PI : 0.0) + c.U(-0.04, 0.04);
       const int style = static_cast<int>(c.rng() % 100000u);
-      c.world.AddClutterBox(Lift(p, 0.22), heading, 4.3, 1.75, 0.82, Material::kCarPaint, style);
-      const Vector2d back(std::cos(heading), std::sin(heading));
-      c.world.AddClutterBox(Lift(p - 0.25 * back, 1.04), heading, 2.3, 1.55, 0.52,
-                            Material::kCarGlass, style);
+      AddParkedCar(c.world, p, heading, style);
     }
   }
 }
@@ -332,6 +331,13 @@ void TownOptions::Check() const {
   if (!(max_setback >= 0.5)) throw OptionsError("TownOptions.max_setback must be >= 0.5 m");
   if (!(curb_height >= 0.0 && curb_height < 0.5)) throw OptionsError("TownOptions.curb_height");
   if (!(ground_margin >= 0.0)) throw OptionsError("TownOptions.ground_margin must be >= 0");
+}
+
+void AddParkedCar(World& world, const Vector2d& position, double heading, int style) {
+  world.AddClutterBox(Lift(position, 0.22), heading, 4.3, 1.75, 0.82, Material::kCarPaint, style);
+  const Vector2d back(std::cos(heading), std::sin(heading));
+  world.AddClutterBox(Lift(position - 0.25 * back, 1.04), heading, 2.3, 1.55, 0.52,
+                      Material::kCarGlass, style);
 }
 
 World BuildTown(const StreetPath& street, std::uint32_t seed, const TownOptions& options) {

@@ -22,4 +22,8 @@ struct TownOptions {
 
 World BuildTown(const StreetPath& street, std::uint32_t seed, const TownOptions& options = {});
 
+// A parked car as clutter: a body box and a cabin box, the body's bottom centre 0.22 m above
+// `position` (W's xy, on the road), `heading` in radians about z, `style` the paint variation.
+void AddParkedCar(World& world, const Eigen::Vector2d& position, double heading, int style);
+
 }  // namespace planeloc::sim

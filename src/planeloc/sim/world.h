@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -82,12 +83,29 @@ struct GtPlane {
   std::vector<Eigen::Vector3d> polygon;  // visible extent, in W, on the plane
 };
 
+// A building's ground rectangle in W's xy plane (metres): centre, unit axes and half extents.
+struct BuildingOutline {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  Eigen::Vector2d axis_u = Eigen::Vector2d::UnitX();  // along the street
+  Eigen::Vector2d axis_v = Eigen::Vector2d::UnitY();  // away from the street
+  double half_u = 0.0, half_v = 0.0;
+  double height = 0.0;
+  // True if `point` lies inside the rectangle grown by `margin` metres on every side.
+  bool Contains(const Eigen::Vector2d& point, double margin) const {
+    const Eigen::Vector2d d = point - centre;
+    return std::abs(d.dot(axis_u)) < half_u + margin && std::abs(d.dot(axis_v)) < half_v + margin;
+  }
+};
+
 struct World {
   std::vector<Quad> quads;
   std::vector<Sphere> spheres;
   std::vector<Cylinder> cylinders;
   std::vector<FacadeStyle> facade_styles;
   std::vector<GtPlane> planes;
+  // Building i's outline (its facades use facade_styles[i]); filled by BuildTown, may be empty in
+  // hand-made worlds. Used to find free ground for new walls (world_changes.h).
+  std::vector<BuildingOutline> buildings;
 
   // Adds a quad that is its own GT plane of `kind` (id = index in planes); returns the quad index.
   int AddPlanarQuad(const Quad& quad, const std::string& kind);
