@@ -611,6 +611,8 @@ flag_case "eval --format csv" "csv" "$internal" "${ev[@]}" --format csv
 flag_case "eval --plane ab" "ab" "$internal" "${ev[@]}" --plane ab
 flag_case "sim --preset bogus" "bogus" "$internal" "$planeloc" sim --out "$work/sim_x" --preset bogus
 flag_case "sim --frames 0" "--frames 0" "$internal" "$planeloc" sim --out "$work/sim_y" --frames 0
+flag_case "sim --changes malformed" "--changes moved=2,cars=x" "$internal" "$planeloc" sim \
+  --out "$work/sim_z" --preset tiny --changes "moved=2,cars=x"
 flag_case "unknown subcommand" "frobnicate" "$internal" "$planeloc" frobnicate
 
 # ---------------------------------------------------------------------------------------------

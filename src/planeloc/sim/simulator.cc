@@ -196,7 +196,7 @@ void WriteReadme(const fs::path& path, const SimOptions& o, const Scenario& s) {
       << "\nlighting: " << LightingName(o.lighting) << "\ntrajectory: "
       << (o.trajectory_path.empty() ? "(preset path)" : o.trajectory_path.string())
       << "\ntexture_dir: " << (o.texture_dir.empty() ? "(procedural)" : o.texture_dir.string())
-      << "\npath_length_m: " << s.path_length << "\ngt_planes: " << s.world.planes.size()
+      << "\npath_length_m: " << s.path_length << "\ngt_planes: " << s.LidarWorld().planes.size()
       << "\nprimitives: " << s.world.quads.size() << " quads, " << s.world.spheres.size()
       << " spheres, " << s.world.cylinders.size() << " cylinders\n";
   if (s.mapping_world) {

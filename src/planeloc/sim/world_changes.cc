@@ -291,6 +291,65 @@ int AddParkedCars(World& world, const StreetPath& street,
   return placed;
 }
 
+// Draws up to `count` free-standing buildings (no neighbour is left open) with a wall near the
+// drive and labels their planes removed; returns which quads of `town` are gone now.
+std::vector<bool> RemoveBuildings(const World& town,
+                                  const std::map<int, std::vector<int>>& buildings,
+                                  const std::vector<Vector3d>& camera_centres, int count,
+                                  std::mt19937& rng, ChangedWorld* out) {
+  std::vector<int> candidates;  // building (style) indices
+  for (const auto& [building, facades] : buildings) {
+    if (!FreeStanding(town, facades)) continue;
+    for (const int i : facades) {
+      if (QuadNearDrive(town.quads[static_cast<std::size_t>(i)], camera_centres)) {
+        candidates.push_back(building);
+        break;
+      }
+    }
+  }
+  std::vector<bool> gone(town.quads.size(), false);
+  const std::vector<int> removed = PickIndices(static_cast<int>(candidates.size()), count, rng);
+  for (const int c : removed) {
+    for (const int i : buildings.at(candidates[static_cast<std::size_t>(c)])) {
+      gone[static_cast<std::size_t>(i)] = true;
+      out->labels[static_cast<std::size_t>(town.quads[static_cast<std::size_t>(i)].plane_id)]
+          .change = PlaneChange::kRemoved;
+    }
+  }
+  out->counts.removed_buildings = static_cast<int>(removed.size());
+  return gone;
+}
+
+// Renovation: moves a share of the ground-level facades (fronts, and side walls shared with no
+// neighbour) near the drive of the buildings that stay, in `out->now`, and labels them.
+void MoveFacades(const World& town, const std::map<int, std::vector<int>>& buildings,
+                 const std::vector<bool>& gone, const std::vector<Vector3d>& camera_centres,
+                 const WorldChangesOptions& options, std::mt19937& rng, ChangedWorld* out) {
+  std::vector<std::pair<int, int>> facades;  // (building, quad)
+  for (const auto& [building, walls] : buildings) {
+    for (const int i : walls) {
+      const Quad& quad = town.quads[static_cast<std::size_t>(i)];
+      if (!gone[static_cast<std::size_t>(i)] && std::abs(quad.origin.z()) < 1e-9 &&
+          QuadNearDrive(quad, camera_centres)) {
+        facades.emplace_back(building, i);
+      }
+    }
+  }
+  const int count =
+      static_cast<int>(std::lround(options.moved_fraction * static_cast<double>(facades.size())));
+  for (const int f : PickIndices(static_cast<int>(facades.size()), count, rng)) {
+    const auto [building, quad] = facades[static_cast<std::size_t>(f)];
+    const double magnitude = Uniform(rng, options.min_offset, options.max_offset);
+    const double offset = (rng() & 1u) != 0 ? magnitude : -magnitude;
+    MoveFacade(out->now, quad, buildings.at(building), offset);
+    PlaneChangeLabel& label =
+        out->labels[static_cast<std::size_t>(town.quads[static_cast<std::size_t>(quad)].plane_id)];
+    label.change = PlaneChange::kMoved;
+    label.offset_m = offset;
+    ++out->counts.moved_facades;
+  }
+}
+
 }  // namespace
 
 std::string WorldChangesOptions::ToSpec() const {
@@ -386,63 +445,14 @@ ChangedWorld ApplyWorldChanges(const World& town, const StreetPath& street,
   const auto stream = [&](Stream kind) {
     return std::mt19937(HashCombine(seed, kChangesStream, static_cast<std::uint32_t>(kind)));
   };
-
-  // Buildings to remove: free-standing ones (no neighbour left open) with a wall near the drive.
   const std::map<int, std::vector<int>> buildings = FacadesByBuilding(town);
-  std::vector<int> candidates;  // building (style) indices
-  for (const auto& [building, facades] : buildings) {
-    if (!FreeStanding(town, facades)) continue;
-    for (const int i : facades) {
-      if (QuadNearDrive(town.quads[static_cast<std::size_t>(i)], camera_centres)) {
-        candidates.push_back(building);
-        break;
-      }
-    }
-  }
 
   std::mt19937 removed_rng = stream(kRemovedStream);
-  std::vector<bool> gone(town.quads.size(), false);
-  const std::vector<int> removed =
-      PickIndices(static_cast<int>(candidates.size()), options.removed_buildings, removed_rng);
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    const bool remove = std::binary_search(removed.begin(), removed.end(), static_cast<int>(c));
-    if (!remove) continue;
-    for (const int i : buildings.at(candidates[c])) {
-      gone[static_cast<std::size_t>(i)] = true;
-      out.labels[static_cast<std::size_t>(town.quads[static_cast<std::size_t>(i)].plane_id)]
-          .change = PlaneChange::kRemoved;
-    }
-  }
-  out.counts.removed_buildings = static_cast<int>(removed.size());
-
-  // Renovation: a share of the ground-level facades (fronts, and side walls shared with no
-  // neighbour) of the buildings near the drive that stay.
+  const std::vector<bool> gone = RemoveBuildings(town, buildings, camera_centres,
+                                                 options.removed_buildings, removed_rng, &out);
   std::mt19937 moved_rng = stream(kMovedStream);
-  std::vector<std::pair<int, int>> facades;  // (building, quad)
-  for (const auto& [building, walls] : buildings) {
-    for (const int i : walls) {
-      const Quad& quad = town.quads[static_cast<std::size_t>(i)];
-      if (!gone[static_cast<std::size_t>(i)] && std::abs(quad.origin.z()) < 1e-9 &&
-          QuadNearDrive(quad, camera_centres)) {
-        facades.emplace_back(building, i);
-      }
-    }
-  }
-  const int moved_count =
-      static_cast<int>(std::lround(options.moved_fraction * static_cast<double>(facades.size())));
-  for (const int f : PickIndices(static_cast<int>(facades.size()), moved_count, moved_rng)) {
-    const auto [building, quad] = facades[static_cast<std::size_t>(f)];
-    const double magnitude = Uniform(moved_rng, options.min_offset, options.max_offset);
-    const double offset = (moved_rng() & 1u) != 0 ? magnitude : -magnitude;
-    MoveFacade(out.now, quad, buildings.at(building), offset);
-    PlaneChangeLabel& label =
-        out.labels[static_cast<std::size_t>(town.quads[static_cast<std::size_t>(quad)].plane_id)];
-    label.change = PlaneChange::kMoved;
-    label.offset_m = offset;
-    ++out.counts.moved_facades;
-  }
-
-  // Removed quads leave `now` last, so the quad indices above stay valid while moving.
+  MoveFacades(town, buildings, gone, camera_centres, options, moved_rng, &out);
+  // Removed quads leave `now` last, so the quad indices stay valid while moving facades.
   std::vector<Quad> quads_now;
   for (std::size_t i = 0; i < out.now.quads.size(); ++i) {
     if (i >= gone.size() || !gone[i]) quads_now.push_back(out.now.quads[i]);  // steps are added
