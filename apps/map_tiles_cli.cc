@@ -73,14 +73,17 @@ TileIndex TileSequence(const TileArgs& args) {
     tiling.axes = AxesFromSensor(poses.world_from_cam.front() * cam_from_velo);
   }
   TiledMapWriter writer(args.build, tiling, args.out, args.sequence);
-  std::size_t most_open = 0;
-  ForEachScan(args.build, sequence, poses,
-              [&](const std::vector<Eigen::Vector3d>& points, const Rigid3d& world_from_velo) {
-                writer.AddScan(points, world_from_velo);
-                most_open = std::max(most_open, writer.open_tiles());
-              });
+  std::size_t most_open = 0, missing_scans = 0;
+  ForEachScan(
+      args.build, sequence, poses,
+      [&](const std::vector<Eigen::Vector3d>& points, const Rigid3d& world_from_velo) {
+        writer.AddScan(points, world_from_velo);
+        most_open = std::max(most_open, writer.open_tiles());
+      },
+      &missing_scans);
   spdlog::info("map tile: at most {} tiles open at once while streaming the scans", most_open);
-  return writer.Finish();
+  const std::size_t frames = (sequence.size() + args.build.every - 1) / args.build.every;
+  return writer.Finish(frames, missing_scans);
 }
 
 }  // namespace
@@ -179,6 +182,7 @@ int MergeAndWrite(const TiledPlanesArgs& args, const MapPlanesOptions& options,
                             {"axes", index.tiling.axes},
                             {"tiles_dir", args.tiles}};
   planes.stats["input_points"] = index.points;
+  if (index.map_build) planes.stats["map_build"] = *index.map_build;
   planes.stats["voxel_size"] = options.EffectiveVoxelSize();
   planes.frame.name = args.frame;
   planes.frame.map_file = std::filesystem::absolute(args.tiles).lexically_normal().string();

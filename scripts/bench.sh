@@ -2,7 +2,7 @@
 # Builds Release, runs every benchmark and rewrites docs/benchmarks.md (issue 12 item 4).
 #
 # Usage: scripts/bench.sh [--quick] [--fresh] [--no-build] [--drives "PRESET:SEED,... ..."]
-#                         [--no-robustness] [--no-map-lock] [--no-peers]
+#                         [--no-robustness] [--no-map-lock] [--no-peers] [--no-mutants]
 #   --quick     under 5 minutes on a 2-core machine: the simulator's `tiny` drive (one seed) and a
 #               subset of the Google Benchmark programs with short minimum times
 #   (default)   every benchmark; `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2 (about an
@@ -15,6 +15,9 @@
 #   --no-map-lock    the full mode without issue 30's default-start runs
 #   --no-peers  the full mode without issue 33's same-run comparison with the real ORB-SLAM2
 #               (scripts/bench_peers.sh: builds the peer once, then about 25 minutes)
+#   --no-mutants  the full mode without issue 37's mutation checks (scripts/mutants.sh
+#               --update-doc: each key mechanism broken in turn in a worktree of its own, the
+#               table in docs/reliability.md; about 60 minutes on 2 cores, most of it builds)
 #   --fresh     remake the cached simulator drives and plane maps (build/bench/data/)
 #   --no-build  use the binaries in the build folder as they are
 #   --drives    other simulated drives than the mode's, e.g. "small:3 kitti07-like:1" (the page
@@ -28,10 +31,12 @@ build_dir="${PLANELOC_BUILD_DIR:-$root/build}"
 run_args=()
 build=1
 peers=1
+mutants=1
 while [ $# -gt 0 ]; do
   case "$1" in
-    --quick) run_args+=(--quick); peers=0; shift ;;
+    --quick) run_args+=(--quick); peers=0; mutants=0; shift ;;
     --no-peers) peers=0; shift ;;
+    --no-mutants) mutants=0; shift ;;
     --fresh) run_args+=(--fresh); shift ;;
     --no-build) build=0; shift ;;
     --drives) run_args+=(--drives "$2"); shift 2 ;;
@@ -54,4 +59,10 @@ if [ "$peers" = 1 ]; then
 fi
 python3 "$root/scripts/bench_report.py" --results "$build_dir/bench" \
   --out "$root/docs/benchmarks.md"
+if [ "$mutants" = 1 ]; then
+  # A surviving mutant is a finding, not a broken bench: the table says which; the page above is
+  # already written.
+  "$root/scripts/mutants.sh" --update-doc || echo "bench.sh: a mutant survived or did not build \
+(docs/reliability.md, 'Mutation checks')" >&2
+fi
 echo "bench.sh: $(($(date +%s) - start)) s in all (build included)"

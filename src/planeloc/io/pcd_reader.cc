@@ -46,8 +46,9 @@ struct PcdHeader {
 
 class PcdReader {
  public:
-  PcdReader(const std::filesystem::path& path, VoxelAccumulator& sink)
-      : path_(path), name_(path.string()), sink_(sink) {}
+  PcdReader(const std::filesystem::path& path, VoxelAccumulator& sink,
+            std::vector<std::string>* comments)
+      : path_(path), name_(path.string()), sink_(sink), comments_(comments) {}
 
   std::size_t Read() {
     std::ifstream stream(path_, std::ios::binary);
@@ -93,7 +94,15 @@ class PcdReader {
       if (!line.empty() && line.back() == '\r') line.pop_back();
       std::istringstream tokens(line);
       std::string key;
-      if (!(tokens >> key) || key[0] == '#') continue;
+      if (!(tokens >> key)) continue;
+      if (key[0] == '#') {
+        if (comments_ && number > 1) {
+          std::size_t text = line.find('#') + 1;
+          if (text < line.size() && line[text] == ' ') ++text;
+          comments_->push_back(line.substr(text));
+        }
+        continue;
+      }
       std::vector<std::string> values;
       for (std::string value; tokens >> value;) values.push_back(value);
       auto single = [&](const char* what) {
@@ -407,6 +416,7 @@ class PcdReader {
   std::filesystem::path path_;
   std::string name_;
   VoxelAccumulator& sink_;
+  std::vector<std::string>* comments_;
   PcdHeader header_;
   bool organized_ = false;
   std::size_t dropped_ = 0;
@@ -414,8 +424,9 @@ class PcdReader {
 
 }  // namespace
 
-std::size_t ReadPcd(const std::filesystem::path& path, VoxelAccumulator& sink) {
-  return PcdReader(path, sink).Read();
+std::size_t ReadPcd(const std::filesystem::path& path, VoxelAccumulator& sink,
+                    std::vector<std::string>* comments) {
+  return PcdReader(path, sink, comments).Read();
 }
 
 }  // namespace planeloc

@@ -11,13 +11,17 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "planeloc/io/voxel_filter.h"
 
 namespace planeloc {
 
 // Streams the points of `path` into `sink`; returns the number of NaN points dropped (organized
-// clouds only). Throws InputError as described above.
-std::size_t ReadPcd(const std::filesystem::path& path, VoxelAccumulator& sink);
+// clouds only). The header's comment lines but the first ("# .PCD v0.7 ...") go to `comments`
+// without their "# ". Throws InputError as described above.
+std::size_t ReadPcd(const std::filesystem::path& path, VoxelAccumulator& sink,
+                    std::vector<std::string>* comments = nullptr);
 
 }  // namespace planeloc

@@ -62,8 +62,9 @@ double ColorChannel(double value, ScalarType type) {
 
 class PlyReader {
  public:
-  PlyReader(const std::filesystem::path& path, VoxelAccumulator& sink)
-      : path_(path), name_(path.string()), sink_(sink) {}
+  PlyReader(const std::filesystem::path& path, VoxelAccumulator& sink,
+            std::vector<std::string>* comments)
+      : path_(path), name_(path.string()), sink_(sink), comments_(comments) {}
 
   void Read() {
     std::ifstream stream(path_, std::ios::binary);
@@ -97,6 +98,10 @@ class PlyReader {
                    "not a .ply file (the first line is not 'ply')",
                    "check the file is a PLY point cloud");
         continue;
+      }
+      if (!tokens.empty() && tokens[0] == "comment" && comments_) {
+        const std::size_t text = line.find_first_not_of(" \t", line.find("comment") + 7);
+        comments_->push_back(text == std::string::npos ? "" : line.substr(text));
       }
       if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info") continue;
       if (tokens[0] == "end_header") {
@@ -335,6 +340,7 @@ class PlyReader {
   std::filesystem::path path_;
   std::string name_;
   VoxelAccumulator& sink_;
+  std::vector<std::string>* comments_;
   std::string format_;
   std::vector<PlyElement> elements_;
   int header_lines_ = 0;
@@ -345,8 +351,9 @@ class PlyReader {
 
 }  // namespace
 
-void ReadPly(const std::filesystem::path& path, VoxelAccumulator& sink) {
-  PlyReader(path, sink).Read();
+void ReadPly(const std::filesystem::path& path, VoxelAccumulator& sink,
+             std::vector<std::string>* comments) {
+  PlyReader(path, sink, comments).Read();
 }
 
 }  // namespace planeloc

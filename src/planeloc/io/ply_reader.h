@@ -9,12 +9,16 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "planeloc/io/voxel_filter.h"
 
 namespace planeloc {
 
-// Streams the vertices of `path` into `sink`. Throws InputError as described above.
-void ReadPly(const std::filesystem::path& path, VoxelAccumulator& sink);
+// Streams the vertices of `path` into `sink`; the header's "comment" lines go to `comments`
+// without the keyword. Throws InputError as described above.
+void ReadPly(const std::filesystem::path& path, VoxelAccumulator& sink,
+             std::vector<std::string>* comments = nullptr);
 
 }  // namespace planeloc

@@ -22,6 +22,18 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
 namespace planeloc {
 namespace {
 
+// The cloud's comments as header lines behind `prefix`; a line break inside one would end the
+// comment early and corrupt the header, so it becomes a space.
+std::string HeaderComments(const PointCloud& cloud, const char* prefix) {
+  std::string lines;
+  for (std::string comment : cloud.comments) {
+    std::replace(comment.begin(), comment.end(), '\n', ' ');
+    std::replace(comment.begin(), comment.end(), '\r', ' ');
+    lines += prefix + comment + "\n";
+  }
+  return lines;
+}
+
 std::string LowerExtension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -100,15 +112,17 @@ PointCloud ReadPointCloud(const std::filesystem::path& path, const PointCloudRea
   try {
     VoxelAccumulator sink(options.voxel_size);
     std::size_t dropped = 0;
+    std::vector<std::string> comments;
     if (ext == ".pcd") {
-      dropped = ReadPcd(path, sink);
+      dropped = ReadPcd(path, sink, &comments);
     } else if (ext == ".ply") {
-      ReadPly(path, sink);
+      ReadPly(path, sink, &comments);
     } else {
       ReadXyz(path, sink);
     }
     PointCloud cloud = sink.Finish();
     cloud.dropped_invalid = dropped;
+    cloud.comments = std::move(comments);
     CheckInput(!cloud.empty(), path.string(), 0,
                dropped > 0
                    ? "the point cloud is empty (all " + std::to_string(dropped) + " points are NaN)"
@@ -156,10 +170,11 @@ void WritePointCloud(const std::filesystem::path& path, const PointCloud& cloud)
   } else if (ext == ".pcd") {
     // PCL's layout: float x y z, colour packed in the bits of a float "rgb" field.
     buffer = fmt::format(
-        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z{}\nSIZE 4 4 4{}\n"
+        "# .PCD v0.7 - Point Cloud Data file format\n{}VERSION 0.7\nFIELDS x y z{}\nSIZE 4 4 4{}\n"
         "TYPE F F F{}\nCOUNT 1 1 1{}\nWIDTH {}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {}\n"
         "DATA binary\n",
-        colors ? " rgb" : "", colors ? " 4" : "", colors ? " F" : "", colors ? " 1" : "", n, n);
+        HeaderComments(cloud, "# "), colors ? " rgb" : "", colors ? " 4" : "", colors ? " F" : "",
+        colors ? " 1" : "", n, n);
     for (std::size_t i = 0; i < n; ++i) {
       for (int k = 0; k < 3; ++k) append(static_cast<float>(cloud.points[i][k]));
       if (colors) {
@@ -169,9 +184,10 @@ void WritePointCloud(const std::filesystem::path& path, const PointCloud& cloud)
     }
   } else {  // .ply: double coordinates, uchar colours
     buffer = fmt::format(
-        "ply\nformat binary_little_endian 1.0\ncomment planeloc\nelement vertex {}\n"
+        "ply\nformat binary_little_endian 1.0\ncomment planeloc\n{}element vertex {}\n"
         "property double x\nproperty double y\nproperty double z\n{}end_header\n",
-        n, colors ? "property uchar red\nproperty uchar green\nproperty uchar blue\n" : "");
+        HeaderComments(cloud, "comment "), n,
+        colors ? "property uchar red\nproperty uchar green\nproperty uchar blue\n" : "");
     for (std::size_t i = 0; i < n; ++i) {
       for (int k = 0; k < 3; ++k) append(cloud.points[i][k]);
       if (colors) {

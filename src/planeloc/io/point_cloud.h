@@ -21,6 +21,10 @@ struct PointCloud {
   // Reading statistics (0 for a cloud not read from a file):
   std::size_t source_points = 0;    // valid points in the file, before any voxel filter
   std::size_t dropped_invalid = 0;  // NaN points of an organized .pcd, dropped
+  // Header comments, one line each (.pcd "# ..." lines after the first, .ply "comment ..."
+  // lines): written and read back, so that a map carries how it was made (`map build` records
+  // its scan and point counts here, map/map_builder.h). .xyz has no header: none.
+  std::vector<std::string> comments;
 
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }

@@ -34,6 +34,33 @@ TEST(PointCloudTest, RoundTripsEveryFormat) {
   }
 }
 
+// A map carries how it was made in its header (map build's counts, issue 37): comments survive
+// a write and a read in both formats that have a header, and a line break cannot end one early.
+TEST(PointCloudTest, HeaderCommentsRoundTrip) {
+  TempDir dir;
+  PointCloud cloud = ThreePoints();
+  cloud.comments = {"planeloc map build {\"scans\":8,\"empty_scans\":1}", "two\nlines"};
+  for (const char* name : {"c.pcd", "c.ply"}) {
+    const auto path = dir.path() / name;
+    WritePointCloud(path, cloud);
+    const PointCloud read = ReadPointCloud(path);
+    ExpectSamePoints(read, cloud);
+    const std::vector<std::string>& comments = read.comments;
+    // The .ply writer's own "planeloc" comment comes first.
+    const auto first = std::find(comments.begin(), comments.end(), cloud.comments[0]);
+    ASSERT_NE(first, comments.end()) << name;
+    ASSERT_NE(first + 1, comments.end()) << name;
+    EXPECT_EQ(first[1], "two lines") << name;
+  }
+  // A PCD written by PCL: "#" comments anywhere in the header, with or without a space.
+  const auto pcl = dir.path() / "pcl.pcd";
+  std::ofstream(pcl) << "# .PCD v0.7 - Point Cloud Data file format\n#made by a scanner\n"
+                        "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                        "WIDTH 1\nHEIGHT 1\n# site 4\nPOINTS 1\nDATA ascii\n1 2 3\n";
+  EXPECT_EQ(ReadPointCloud(pcl).comments,
+            (std::vector<std::string>{"made by a scanner", "site 4"}));
+}
+
 TEST(PointCloudTest, KeepsColors) {
   TempDir dir;
   PointCloud cloud = ThreePoints();

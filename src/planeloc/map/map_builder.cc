@@ -41,13 +41,18 @@ void MapAccumulator::AddScan(const std::vector<Eigen::Vector3d>& points_in_velo,
   const double max2 = options_.max_range * options_.max_range;
   std::vector<Eigen::Vector3d> kept;
   kept.reserve(points_in_velo.size());
+  scan_points_ += points_in_velo.size();
   for (const auto& p : points_in_velo) {
     if (!p.allFinite()) {
       ++non_finite_points_;
       continue;
     }
     const double r2 = p.squaredNorm();
-    if (r2 >= min2 && r2 <= max2) kept.push_back(world_from_velo * p);
+    if (r2 >= min2 && r2 <= max2) {
+      kept.push_back(world_from_velo * p);
+    } else {
+      ++out_of_range_points_;
+    }
   }
   empty_scans_ += kept.empty();
   AddPoints(std::move(kept));
@@ -91,7 +96,8 @@ Rigid3d CheckScanSequence(const KittiSequence& sequence, const Trajectory& poses
 
 std::size_t ForEachScan(
     const MapBuildOptions& options, const KittiSequence& sequence, const Trajectory& poses,
-    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink) {
+    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink,
+    std::size_t* missing_scans) {
   options.Check();
   const std::string folder = sequence.folder().string();
   const Rigid3d cam_from_velo = CheckScanSequence(sequence, poses);
@@ -112,19 +118,52 @@ std::size_t ForEachScan(
   }
   progress.Finish();
   if (missing > 0) spdlog::warn("map build: {} of {} frames have no Velodyne scan", missing, total);
+  if (missing_scans) *missing_scans = missing;
   CheckInput(scans > 0, folder, 0, "no Velodyne scan found in the sequence",
              "check the sequence's velodyne/ (or velodyne_points/data/) folder");
   return scans;
 }
 
+nlohmann::json MapBuildCounts::ToJson() const {
+  return {{"frames", frames},
+          {"missing_scans", missing_scans},
+          {"scans", scans},
+          {"empty_scans", empty_scans},
+          {"scan_points", scan_points},
+          {"non_finite_points", non_finite_points},
+          {"out_of_range_points", out_of_range_points},
+          {"map_points", map_points}};
+}
+
+std::optional<nlohmann::json> MapBuildCountsFromComments(const std::vector<std::string>& comments) {
+  const std::string tag = kMapBuildCommentTag;
+  for (const std::string& comment : comments) {
+    if (comment.compare(0, tag.size(), tag) != 0) continue;
+    nlohmann::json counts = nlohmann::json::parse(comment.substr(tag.size()), nullptr, false);
+    if (counts.is_object()) return counts;
+  }
+  return std::nullopt;
+}
+
 PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequence,
                     const Trajectory& poses) {
   MapAccumulator accumulator(options);
-  ForEachScan(options, sequence, poses,
-              [&](const std::vector<Eigen::Vector3d>& points, const Rigid3d& world_from_velo) {
-                accumulator.AddScan(points, world_from_velo);
-              });
+  MapBuildCounts counts;
+  ForEachScan(
+      options, sequence, poses,
+      [&](const std::vector<Eigen::Vector3d>& points, const Rigid3d& world_from_velo) {
+        accumulator.AddScan(points, world_from_velo);
+      },
+      &counts.missing_scans);
   PointCloud map = accumulator.Finish();
+  counts.frames = (sequence.size() + options.every - 1) / options.every;
+  counts.scans = accumulator.scans();
+  counts.empty_scans = accumulator.empty_scans();
+  counts.scan_points = accumulator.scan_points();
+  counts.non_finite_points = accumulator.non_finite_points();
+  counts.out_of_range_points = accumulator.out_of_range_points();
+  counts.map_points = map.size();
+  map.comments.push_back(kMapBuildCommentTag + counts.ToJson().dump());
   CheckInput(!map.empty(), sequence.folder().string(), 0,
              "the map is empty: no scan point lies within the range limits",
              "check --min-range / --max-range (metres)");

@@ -8,6 +8,9 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "planeloc/geometry/rigid3.h"
@@ -45,6 +48,8 @@ class MapAccumulator {
   // the NaN/Inf points dropped (a Velodyne return is never NaN: a damaged file).
   std::size_t empty_scans() const { return empty_scans_; }
   std::size_t non_finite_points() const { return non_finite_points_; }
+  std::size_t scan_points() const { return scan_points_; }  // every point handed to AddScan
+  std::size_t out_of_range_points() const { return out_of_range_points_; }
   // The downsampled map (world frame). Call once.
   PointCloud Finish();
 
@@ -57,7 +62,30 @@ class MapAccumulator {
   std::size_t scans_ = 0;
   std::size_t empty_scans_ = 0;
   std::size_t non_finite_points_ = 0;
+  std::size_t scan_points_ = 0;
+  std::size_t out_of_range_points_ = 0;
 };
+
+// What a map build read and what it dropped: logged, and written into the map file's header
+// (PointCloud::comments, behind kMapBuildCommentTag) so that `map planes` can record it in
+// planes.json's stats ("map_build") and a map that lost scans says so wherever it goes.
+struct MapBuildCounts {
+  std::size_t frames = 0;         // frames visited (every --every-th)
+  std::size_t missing_scans = 0;  // of those, frames without a scan file
+  std::size_t scans = 0;          // scans read
+  std::size_t empty_scans = 0;    // scans that gave no point (empty, all NaN/Inf or out of range)
+  std::size_t scan_points = 0;    // points in the scans read
+  std::size_t non_finite_points = 0;    // NaN/Inf points dropped (a damaged scan file)
+  std::size_t out_of_range_points = 0;  // outside [--min-range, --max-range]
+  std::size_t map_points = 0;           // in the map, after voxel downsampling
+
+  nlohmann::json ToJson() const;
+};
+inline constexpr const char* kMapBuildCommentTag = "planeloc map build ";
+
+// The counts of a map file's kMapBuildCommentTag comment (PointCloud::comments) as JSON, or
+// nullopt when it has none (a map not made by `map build`) or it is not valid JSON.
+std::optional<nlohmann::json> MapBuildCountsFromComments(const std::vector<std::string>& comments);
 
 // Voxel-grid downsampling (io/voxel_filter.h: voxels aligned with the frame origin, centroid per
 // voxel), so that `map planes`' default filter at the same voxel size leaves a built map as it is
@@ -74,13 +102,16 @@ Rigid3d CheckScanSequence(const KittiSequence& sequence, const Trajectory& poses
 // world_from_velo (poses: world_from_cam per frame). Returns the number of scans; throws InputError
 // if the counts differ, the sequence has no LiDAR calibration or no scan (frames without a scan
 // file are skipped with a warning). Shared by BuildMap and the tiled build (map_tiles.h).
+// `missing_scans`, if given, receives the count of frames without a scan file.
 std::size_t ForEachScan(
     const MapBuildOptions& options, const KittiSequence& sequence, const Trajectory& poses,
-    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink);
+    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink,
+    std::size_t* missing_scans = nullptr);
 
 // Builds the map of `sequence` with `poses` (world_from_cam of the sequence's left camera, one per
 // frame). Throws InputError if the counts differ, the sequence has no LiDAR calibration or no
-// scan, or the map ends up empty; frames without a scan file are skipped with a warning.
+// scan, or the map ends up empty; frames without a scan file are skipped with a warning. The map's
+// comments hold its MapBuildCounts.
 PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequence,
                     const Trajectory& poses);
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -65,9 +66,31 @@ TEST(MapAccumulatorTest, CountsScansWithoutPointsAndNonFinitePoints) {
   EXPECT_EQ(accumulator.scans(), 4u);
   EXPECT_EQ(accumulator.empty_scans(), 3u);
   EXPECT_EQ(accumulator.non_finite_points(), 103u);
+  const std::size_t road = RoadScan().size();  // 40 000
+  EXPECT_EQ(accumulator.scan_points(), 100 + 2 * road);
+  // The scaled scan lies beyond max_range; of the road, the points within min_range (2 m) of the
+  // sensor go too (none of the 3 damaged ones, in a far corner).
+  const auto scan = RoadScan();
+  const auto near = static_cast<std::size_t>(std::count_if(
+      scan.begin(), scan.end(), [&](const Eigen::Vector3d& p) { return p.norm() < 2.0; }));
+  EXPECT_GT(near, 1000u);
+  EXPECT_EQ(accumulator.out_of_range_points(), road + near);
   const PointCloud map = accumulator.Finish();
   EXPECT_FALSE(map.empty());
   for (const auto& p : map.points) EXPECT_TRUE(p.allFinite());
+}
+
+TEST(MapBuildCountsTest, FromCommentsFindsTheTaggedJsonOnly) {
+  MapBuildCounts counts;
+  counts.scans = 8;
+  counts.empty_scans = 1;
+  const std::vector<std::string> comments = {"planeloc", "planeloc map build {broken",
+                                             kMapBuildCommentTag + counts.ToJson().dump()};
+  const auto read = MapBuildCountsFromComments(comments);
+  ASSERT_TRUE(read.has_value());
+  EXPECT_EQ((*read)["scans"], 8);
+  EXPECT_EQ((*read)["empty_scans"], 1);
+  EXPECT_FALSE(MapBuildCountsFromComments({"planeloc", "site 4"}).has_value());
 }
 
 TEST(MapAccumulatorTest, CompactionKeepsTheMapBounded) {

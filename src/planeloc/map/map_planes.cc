@@ -9,6 +9,7 @@
 #include <string>
 
 #include "planeloc/io/voxel_filter.h"
+#include "planeloc/map/map_builder.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
@@ -70,6 +71,8 @@ MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& opti
   stats["options"] = MapOptionsToJson(options);
   // Points of the file when the map was voxel-filtered while reading (ReadPointCloud).
   stats["input_points"] = map.source_points > 0 ? map.source_points : map.size();
+  // What `map build` read and dropped, carried from the map file's header.
+  if (const auto counts = MapBuildCountsFromComments(map.comments)) stats["map_build"] = *counts;
   stats["voxel_size"] = output.voxel_size;
   return output;
 }

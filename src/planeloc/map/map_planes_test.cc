@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "planeloc/io/plane_map.h"
+#include "planeloc/map/map_builder.h"
 #include "planeloc/map/synthetic_scene_for_test.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/temp_dir.h"
@@ -26,10 +27,13 @@ std::string ReadBytes(const std::filesystem::path& path) {
 TEST(MapPlanesTest, TwoRunsWriteIdenticalPlaneMaps) {
   PointCloud map;
   map.points = testing::SceneBuilder::StreetCorner(0.15, 0.02, 31).points;
+  map.comments = {std::string(kMapBuildCommentTag) + R"({"scans":8,"empty_scans":1})"};
   MapPlanesOptions options;
   options.plane_extraction.up = Eigen::Vector3d::UnitZ();
   TempDir dir;
   const MapPlanesOutput first = RunMapPlanes(map, options);
+  // What `map build` wrote into the map's header reaches planes.json (issue 37).
+  EXPECT_EQ(first.extraction.plane_map.stats["map_build"]["empty_scans"], 1);
   const MapPlanesOutput second = RunMapPlanes(map, options);
   ASSERT_FALSE(first.extraction.plane_map.planes.empty());
   WritePlaneMap(dir.path() / "a.json", first.extraction.plane_map);

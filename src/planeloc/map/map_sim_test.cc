@@ -47,6 +47,17 @@ TEST(MapSimTest, TinyTownPlanesMatchGroundTruth) {
   build.show_progress = false;
   build.max_range = 25.0;  // a small map: the test checks accuracy, the benchmark speed
   const PointCloud map = BuildMap(build, sequence, poses);
+  // The map's header says what the build read (issue 37): 4 scans, none empty or damaged.
+  const auto counts = MapBuildCountsFromComments(map.comments);
+  ASSERT_TRUE(counts.has_value());
+  EXPECT_EQ((*counts)["frames"], 4);
+  EXPECT_EQ((*counts)["scans"], 4);
+  EXPECT_EQ((*counts)["missing_scans"], 0);
+  EXPECT_EQ((*counts)["empty_scans"], 0);
+  EXPECT_EQ((*counts)["non_finite_points"], 0);
+  EXPECT_EQ((*counts)["map_points"], map.size());
+  EXPECT_GT((*counts)["scan_points"].get<std::size_t>(),
+            (*counts)["out_of_range_points"].get<std::size_t>() + map.size());
   // Scans, Tr and poses must agree with the GT (the simulator once scanned with the inverse of
   // its own Tr; this catches that before the plane checks).
   ASSERT_GT(FractionOnGt(map.points, gt), 0.5) << "simulated scans disagree with planes_gt.json";

@@ -94,14 +94,15 @@ void WriteTileIndex(const std::filesystem::path& dir, const TileIndex& index) {
                      {"points", t.points},
                      {"core_points", t.core_points}});
   }
-  const nlohmann::json doc = {{"format", "planeloc-tiles"},
-                              {"version", 1},
-                              {"tile_size", index.tiling.tile_size},
-                              {"overlap", index.tiling.overlap},
-                              {"axes", {index.tiling.axes[0], index.tiling.axes[1]}},
-                              {"source", index.source},
-                              {"points", index.points},
-                              {"tiles", tiles}};
+  nlohmann::json doc = {{"format", "planeloc-tiles"},
+                        {"version", 1},
+                        {"tile_size", index.tiling.tile_size},
+                        {"overlap", index.tiling.overlap},
+                        {"axes", {index.tiling.axes[0], index.tiling.axes[1]}},
+                        {"source", index.source},
+                        {"points", index.points},
+                        {"tiles", tiles}};
+  if (index.map_build) doc["map_build"] = *index.map_build;
   WriteFileWhole(dir / "index.json", doc.dump(1) + "\n");
 }
 
@@ -124,6 +125,8 @@ TileIndex ReadTileIndex(const std::filesystem::path& dir) {
     index.tiling.axes = {doc.at("axes").at(0).get<int>(), doc.at("axes").at(1).get<int>()};
     index.source = doc.value("source", "");
     index.points = doc.value("points", std::size_t{0});
+    if (doc.contains("map_build") && doc["map_build"].is_object())
+      index.map_build = doc["map_build"];
     for (const auto& t : doc.at("tiles")) {
       TileEntry entry;
       entry.key = {t.at("key").at(0).get<long long>(), t.at("key").at(1).get<long long>()};
@@ -229,12 +232,24 @@ void TiledMapWriter::AddScan(const std::vector<Eigen::Vector3d>& points_in_velo,
   const double min2 = build_.min_range * build_.min_range;
   const double max2 = build_.max_range * build_.max_range;
   std::map<TileKey, std::vector<Eigen::Vector3d>> per_tile;
+  ++counts_.scans;
+  counts_.scan_points += points_in_velo.size();
+  std::size_t kept = 0;
   for (const auto& p : points_in_velo) {
+    if (!p.allFinite()) {
+      ++counts_.non_finite_points;
+      continue;
+    }
     const double r2 = p.squaredNorm();
-    if (!(r2 >= min2 && r2 <= max2 && p.allFinite())) continue;
+    if (!(r2 >= min2 && r2 <= max2)) {
+      ++counts_.out_of_range_points;
+      continue;
+    }
+    ++kept;
     const Eigen::Vector3d q = world_from_velo * p;
     for (const TileKey& key : grid_.BoxKeysOf(q)) per_tile[key].push_back(q);
   }
+  counts_.empty_scans += kept == 0;
   for (auto& [key, points] : per_tile) {
     auto it = open_.find(key);
     if (it == open_.end()) {
@@ -264,11 +279,13 @@ void TiledMapWriter::Close(const TileKey key) {  // by value: erased below
   written_[key] = !tile.empty();
 }
 
-TileIndex TiledMapWriter::Finish() {
+TileIndex TiledMapWriter::Finish(std::size_t frames, std::size_t missing_scans) {
   while (!open_.empty()) Close(open_.begin()->first);
   TileIndex index;
   index.tiling = grid_.options();
   index.source = source_;
+  counts_.frames = frames;
+  counts_.missing_scans = missing_scans;
   for (const auto& [key, nonempty] : written_) {
     if (!nonempty) continue;
     TileEntry entry;
@@ -287,6 +304,14 @@ TileIndex TiledMapWriter::Finish() {
   CheckInput(!index.tiles.empty(), source_, 0,
              "the map is empty: no scan point lies within the range limits",
              "check --min-range / --max-range (metres)");
+  counts_.map_points = index.points;
+  index.map_build = counts_.ToJson();
+  if (counts_.empty_scans > 0 || counts_.non_finite_points > 0) {
+    spdlog::warn(
+        "map tile: {} of the {} scans gave no point (empty, all NaN/Inf, or all beyond "
+        "--min-range/--max-range); {} NaN/Inf points dropped (a damaged scan file)",
+        counts_.empty_scans, counts_.scans, counts_.non_finite_points);
+  }
   WriteTileIndex(dir_, index);
   return index;
 }

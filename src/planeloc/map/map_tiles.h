@@ -22,6 +22,8 @@
 #include <cstddef>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,6 +81,9 @@ struct TileIndex {
   std::size_t points = 0;
   std::vector<TileEntry> tiles;  // sorted by key
   std::filesystem::path dir;     // where index.json was read from (not written)
+  // Cut from scans (`map tile --sequence`, `map build --tiles-out`): what was read and dropped
+  // (MapBuildCounts::ToJson; index.json's "map_build").
+  std::optional<nlohmann::json> map_build;
 };
 
 // Throws InputError naming TILES_DIR/index.json when it is missing or malformed, lists no tile,
@@ -107,7 +112,8 @@ class TiledMapWriter {
                  std::string source);
   void AddScan(const std::vector<Eigen::Vector3d>& points_in_velo, const Rigid3d& world_from_velo);
   // Writes the remaining tiles and the index (core points counted from the files).
-  TileIndex Finish();
+  // `frames` visited and the `missing_scans` among them go into the index's map_build counts.
+  TileIndex Finish(std::size_t frames = 0, std::size_t missing_scans = 0);
   std::size_t open_tiles() const { return open_.size(); }
 
  private:
@@ -119,6 +125,7 @@ class TiledMapWriter {
   std::string source_;
   std::map<TileKey, MapAccumulator> open_;
   std::map<TileKey, bool> written_;
+  MapBuildCounts counts_;
 };
 
 }  // namespace planeloc
