@@ -2,10 +2,10 @@
 # Issue 14: planeloc_node in ROS 1 on localhost. A rosmaster on a free port, planeloc_node with
 # the tiny preset's plane map (exact start, --deterministic), and planeloc_stereo_player playing
 # a bag of 12 tiny frames (`planeloc convert kitti-to-bag`) at 4 Hz; the poses the node publishes
-# on ~odometry must be those of `planeloc run --deterministic` on the same frames within 1 cm
-# (and 0.1 degree), and the plane markers must arrive (latched). Twice: the node started directly,
-# then through apps/ros/launch/planeloc.launch (roslaunch, with a package folder of its own that
-# holds package.xml and the node, so that another build tree's node cannot be picked).
+# on ~odometry must be those of `planeloc run --deterministic` on the same frames within 1e-6 m and
+# 1e-6 per rotation entry, and the plane markers must arrive (latched). Twice: the node started
+# directly, then through apps/ros/launch/planeloc.launch (roslaunch, with a package folder of its
+# own that holds package.xml and the node, so that another build tree's node cannot be picked).
 # Usage: ros_node_test.sh SOURCE_DIR path/to/planeloc path/to/planeloc_node
 #        path/to/planeloc_stereo_player
 set -u
@@ -63,7 +63,11 @@ for a, b in zip(run, node):
     worst_t = max(worst_t, math.dist([a[3], a[7], a[11]], [b[3], b[7], b[11]]))
     worst_r = max(worst_r, max(abs(x - y) for x, y in zip(a, b)))
 print(f"node vs run: largest position difference {worst_t:.3e} m, rotation entry {worst_r:.3e}")
-sys.exit(0 if worst_t < 0.01 and worst_r < 0.0017 else 1)
+# The node runs the CLI's code on the same frames with --deterministic: measured 3.7e-9 m and
+# 3.7e-9 (2026-12-04, `ctest -R ros.node`; the printed poses' precision). A node that publishes
+# visual odometry's poses instead of the map-corrected ones differs by 1.6 cm on these 12 frames
+# (scripts/mutants/11-ros-vo-frame.patch), which the old 1 cm bound barely caught.
+sys.exit(0 if worst_t < 1e-6 and worst_r < 1e-6 else 1)
 PY
   passed=$((passed + 1))
 }
