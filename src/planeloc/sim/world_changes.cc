@@ -113,7 +113,7 @@ std::map<int, std::vector<int>> FacadesByBuilding(const World& world) {
 
 // A free-standing building has its front and both side walls from the ground up: it shares no
 // wall with a neighbour (a shared wall starts above the lower roof or is not emitted at all), so
-// removing it or moving one of its walls leaves no box open.
+// removing it leaves no neighbour's box open.
 bool FreeStanding(const World& world, const std::vector<int>& facades) {
   if (facades.size() != 3) return false;
   for (const int i : facades) {
