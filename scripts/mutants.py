@@ -11,10 +11,11 @@ failure was not the mutant's doing). Writes a JSON record and a Markdown table (
 holds the last one) and exits 1 when a mutant survives, 2 when a patch no longer applies or builds.
 
 Usage: scripts/mutants.sh [--only NAME[,NAME...]] [--all] [--out DIR] [--markdown FILE]
-                          [--update-doc]
+                          [--update-doc] [--report-only]
   --all          run the whole suite for every mutant (all catching tests, not the first only)
   --out          where the worktree, its build and mutants.json go (default build-mutants/)
   --update-doc   rewrite the table in docs/reliability.md (between its mutants markers)
+  --report-only  no build or test: the table (and --update-doc) from the last mutants.json
 """
 import argparse
 import json
@@ -81,8 +82,11 @@ def ctest(build, regex, exclude, log_file, jobs):
         listing = done.stdout.split("The following tests FAILED:")[-1]
         failed = re.findall(r"^\s*\d+ - (\S+) \(", listing, re.M)
     # gtest cases ("[  FAILED  ] Suite.Case") and the shell tests' "FAIL name" lines.
+    # Paths (temporary folders, the build's binaries) say nothing about which check failed.
+    shell = {re.sub(r"(?:/[^\s/]+)+/([^\s/]+)", r"\1", m.strip())
+             for m in re.findall(r"^FAIL (.+)$", done.stdout, re.M)}
     cases = sorted(set(re.findall(r"^\[  FAILED  \] (\w+\.\w+(?:/\w+)?)", done.stdout, re.M))
-                   | set(m.strip() for m in re.findall(r"^FAIL (.+)$", done.stdout, re.M)))
+                   | shell)
     return failed, cases, time.time() - started
 
 
@@ -95,6 +99,8 @@ def main():
     parser.add_argument("--markdown", help="also write the table to this file")
     parser.add_argument("--update-doc", action="store_true",
                         help="rewrite the table in docs/reliability.md")
+    parser.add_argument("--report-only", action="store_true",
+                        help="write the table from the last mutants.json")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     args = parser.parse_args()
     if args.update_doc and args.only:
@@ -110,6 +116,10 @@ def main():
         mutants = [m for m in mutants if m["name"] in wanted]
 
     out = pathlib.Path(args.out).resolve()
+    if args.report_only:
+        summary = json.loads((out / "mutants.json").read_text())
+        report(summary, args, out)
+        return 0
     tree, build = out / "tree", out / "build"
     out.mkdir(parents=True, exist_ok=True)
     log_file = out / "mutants.log"
@@ -176,8 +186,14 @@ def main():
         status = max(status, 1)
 
     summary = {"head": head, "date": time.strftime("%Y-%m-%d"), "mutants": results,
-               "baseline_failed": baseline_failed}
+               "baseline_failed": baseline_failed, "all": args.all}
     (out / "mutants.json").write_text(json.dumps(summary, indent=2) + "\n")
+    report(summary, args, out)
+    return status
+
+
+def report(summary, args, out):
+    results, head = summary["mutants"], summary["head"]
     table = ["| mutant | mutation | caught by (ctest test: failing cases) | s |",
              "|---|---|---|---:|"]
     for r in results:
@@ -196,12 +212,11 @@ def main():
         if begin not in page or end not in page:
             raise SystemExit(f"mutants: {doc} has no '{begin.strip()}' ... '{end.strip()}' markers")
         stamp = (f"Measured {summary['date']} on {head[:7]} (`scripts/mutants.sh"
-                 f"{' --all' if args.all else ''}`; {sum(r['caught'] for r in results)} of "
+                 f"{' --all' if summary.get('all') else ''}`; {sum(r['caught'] for r in results)} of "
                  f"{len(results)} caught).\n\n")
         page = page[:page.index(begin) + len(begin)] + stamp + text + page[page.index(end):]
         doc.write_text(page)
     log(f"{sum(r['caught'] for r in results)} of {len(results)} caught; {out / 'mutants.json'}")
-    return status
 
 
 if __name__ == "__main__":
