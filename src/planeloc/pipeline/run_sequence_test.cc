@@ -68,9 +68,10 @@ TEST_F(RealtimeReplayTest, PacesFramesAtTheCameraRateAndMeasuresEachLatency) {
   for (const FrameStats& s : summary.stats) {
     ASSERT_TRUE(s.latency_ms.has_value()) << "frame " << s.frame;
     EXPECT_GE(*s.latency_ms, 0.0) << "frame " << s.frame;
-    // Measured 12-60 ms per frame on a shared 2-core machine; a replay that waited a whole frame
-    // period (the TBB-stealing defect) would add 100 ms.
-    EXPECT_LT(*s.latency_ms, 1000.0) << "frame " << s.frame;
+    // From the frame's arrival (frame / 10 Hz after the start), not from the start of the run:
+    // it ended before the run did. Measured 12-60 ms per frame on a shared 2-core machine and up
+    // to 1.3 s under ASan, so no absolute bound here (speed lives in docs/bench-tracking.md).
+    EXPECT_LE(*s.latency_ms, (wall - s.frame * 0.1) * 1000.0 + 1.0) << "frame " << s.frame;
   }
   ASSERT_TRUE(summary.latency_p50_ms && summary.latency_p99_ms && summary.latency_max_ms);
   EXPECT_LE(*summary.latency_p50_ms, *summary.latency_p99_ms);
