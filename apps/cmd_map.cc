@@ -6,22 +6,26 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "command_registry.h"
 #include "flags.h"
 #include "map_tiles_cli.h"
 #include "plane_map_eval_log.h"
 #include "planeloc/io/kitti_sequence.h"
+#include "planeloc/io/map_updates.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/io/point_cloud.h"
 #include "planeloc/io/trajectory.h"
 #include "planeloc/map/map_builder.h"
 #include "planeloc/map/map_options.h"
 #include "planeloc/map/map_planes.h"
+#include "planeloc/map/map_update.h"
 #include "planeloc/map/plane_map_eval.h"
 #include "planeloc/map/pose_refinement.h"
 #include "planeloc/util/safe_file.h"
@@ -341,6 +345,56 @@ MapSubcommand AddTileCommand(CLI::App& map) {
   return {tile, [tile_args] { return RunTile(*tile_args); }};
 }
 
+struct UpdateArgs {
+  std::string planes;
+  std::vector<std::string> updates;
+  std::string out;
+  std::string report;
+};
+
+int RunUpdate(const UpdateArgs& args) {
+  std::vector<FlagPath> inputs = {{"--planes", args.planes}};
+  for (const std::string& path : args.updates) inputs.push_back({"--updates", path});
+  // The output never replaces an input (planes.json above all): a failed or wrong update must
+  // leave the map it started from.
+  CheckOutputPaths({{"--out", args.out}, {"--report", args.report}}, inputs);
+  const PlaneMap map = ReadPlaneMap(args.planes);
+  const std::string hash = FileHash(args.planes);
+  std::vector<MapUpdates> updates;
+  for (const std::string& path : args.updates) {
+    updates.push_back(ReadMapUpdates(path));
+    CheckUpdatesMatch(map, hash, updates.back());
+  }
+  const MapUpdateResult result = FuseMapUpdates(map, updates);
+  WritePlaneMap(args.out, result.planes);
+  std::map<std::string, int> counts;
+  for (const PlaneChange& change : result.changes) ++counts[ToString(change.action)];
+  spdlog::info("map update: {} planes, {} moved, {} retired, {} confirmed, {} unchanged -> {}",
+               map.planes.size(), counts["moved"], counts["retired"], counts["confirmed"],
+               counts["unchanged"], args.out);
+  if (!args.report.empty()) {
+    WriteFileWhole(args.report, ChangesMarkdown(map, updates, result));
+    spdlog::info("changes: {}", args.report);
+  }
+  return 0;
+}
+
+MapSubcommand AddUpdateCommand(CLI::App& map) {
+  auto update_args = std::make_shared<UpdateArgs>();
+  auto* update = map.add_subcommand(
+      "update",
+      "Fuse what runs learned about a plane map (`run --map-update` files) into a new plane map: "
+      "moves, confirms or retires planes (docs/map-update.md)");
+  update->add_option("--planes", update_args->planes, "The plane map the runs used")->required();
+  update->add_option("--updates", update_args->updates, "One or more `run --map-update` files")
+      ->required()
+      ->expected(1, -1);
+  update->add_option("--out", update_args->out, "The updated plane map (never the input)")
+      ->required();
+  update->add_option("--report", update_args->report, "What changed and why, as Markdown");
+  return {update, [update_args] { return RunUpdate(*update_args); }};
+}
+
 CommandRunner SetupMap(CLI::App& app) {
   auto* map = app.add_subcommand("map", "LiDAR map: build it from scans, extract its planes");
   map->require_subcommand(1);
@@ -348,8 +402,9 @@ CommandRunner SetupMap(CLI::App& app) {
   const MapSubcommand refine = AddRefineCommand(*map);
   const MapSubcommand planes = AddPlanesCommand(*map);
   const MapSubcommand tile = AddTileCommand(*map);
-  return [build, refine, tile, planes]() {
-    for (const MapSubcommand* chosen : {&build, &refine, &tile, &planes}) {
+  const MapSubcommand update = AddUpdateCommand(*map);
+  return [build, refine, tile, planes, update]() {
+    for (const MapSubcommand* chosen : {&build, &refine, &tile, &planes, &update}) {
       if (chosen->command->parsed()) return chosen->run();
     }
     return 2;

@@ -48,6 +48,7 @@ struct RunArgs {
   std::string cameras = "auto";
   int frames = 0;
   std::string report_dir;
+  std::string map_update;
 };
 
 // --report-dir: created when missing (its parent must exist, as for any output folder).
@@ -102,8 +103,13 @@ void CheckRunArgs(const RunArgs& args) {
             "e.g. --frames 100");
   // Before any work: a missing output folder or two outputs on one file fail now, not after the
   // run (the settings echo is written first and used to take the blame).
+  if (!args.map_update.empty() && args.planes.empty()) {
+    throw InputError(args.map_update, "--map-update reports on the planes of a plane map",
+                     "add --planes planes.json (or drop --map-update)");
+  }
   CheckOutputPaths({{"--out", args.out},
                     {"--stats", args.stats},
+                    {"--map-update", args.map_update},
                     {"the settings echo (--out + .config.yaml)", args.out + ".config.yaml"}},
                    {{"--init-pose-from", args.init_pose_from},
                     {"--planes", args.planes},
@@ -135,6 +141,7 @@ RunOptions MakeRunOptions(const RunArgs& args) {
   if (!args.config.empty()) options.settings_path = args.config;
   options.calibration_from_settings = args.calib_from_settings;
   if (!args.planes.empty()) options.planes_path = args.planes;
+  if (!args.map_update.empty()) options.map_update_path = args.map_update;
   if (!args.init_sigma.empty() && args.no_planes) {
     spdlog::warn(
         "--init-sigma is used only with --planes: visual odometry runs in the frame of "
@@ -309,6 +316,10 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
   cmd->add_option("--report-dir", args->report_dir,
                   "Also write the folder `planeloc report` reads: trajectory, stats, settings, "
                   "plane map and a few keyframe overlay images (created if missing)");
+  cmd->add_option("--map-update", args->map_update,
+                  "With --planes: write what the run learned about each plane (unseen, "
+                  "confirmed, corrected with offset and normal and their sigma, contradicted; the "
+                  "frames it was seen in) as JSON for `planeloc map update` (docs/map-update.md)");
   return [args] { return Run(*args); };
 });
 

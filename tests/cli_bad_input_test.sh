@@ -146,5 +146,54 @@ expect_error "run initial pose mirrored" "--init-pose" -- \
   "$planeloc" run --sequence "$work/nope" --no-planes --init-pose "-1 0 0 0 0 1 0 0 0 0 1 0" \
   --out "$work/t.txt"
 
+# map update and run --map-update (issue 32): updates from another map, an output onto an input,
+# a bad sigma; never an output file on failure, the input never touched.
+cat >"$work/upd_planes.json" <<'JSON'
+{"planes": [{"id": 4, "normal": [1, 0, 0], "d": -6, "centroid": [6, -2, 20], "inliers": 100,
+  "rms": 0.02, "area": 300, "polygon": [[6, -6, 0], [6, 1.65, 0], [6, 1.65, 40], [6, -6, 40]],
+  "sigma": {"offset": 0.05, "normal": [0.0035, 0.0035], "major_axis": [0, 0, 1]}}],
+ "frame": {"name": "map"}}
+JSON
+planes_hash="$(python3 -c 'import sys
+h = 0xcbf29ce484222325
+for b in open(sys.argv[1], "rb").read():
+    h = ((h ^ b) * 0x100000001b3) % (1 << 64)
+print("%016x" % h)' "$work/upd_planes.json")"
+updates_json() {  # HASH OFFSET_SIGMA
+  printf '{"format": "planeloc map updates 1",\n "planes_file": {"path": "p.json", "fnv1a64": "%s", "planes": 1, "frame": "map"},\n "run": {"sequence": "s", "frames": 10, "trajectory": "t.txt"},\n "planes": [\n  {"id": 4, "status": "corrected", "points": 90, "through": 0, "frames": [3, 5],\n   "disabled_at_frame": null, "offset": 0.2, "offset_sigma": %s, "tilt": [0, 0],\n   "tilt_sigma": [1, 1], "normal": [1, 0, 0], "d": -6.2}]}\n' "$1" "$2"
+}
+updates_json "$planes_hash" 0.03 >"$work/upd_good.json"
+updates_json "00000000deadbeef" 0.03 >"$work/upd_other_map.json"
+updates_json "$planes_hash" -0.03 >"$work/upd_sigma.json"
+cp "$work/upd_planes.json" "$work/upd_planes.orig"
+expect_ok "map update fuses a run" -- "$planeloc" map update --planes "$work/upd_planes.json" \
+  --updates "$work/upd_good.json" --out "$work/upd_new.json" --report "$work/upd_changes.md"
+if grep -q '"d": -6.2' "$work/upd_new.json" && grep -q '| 4 | moved |' "$work/upd_changes.md"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1))
+  echo "FAIL map update: plane 4 not moved to d = -6.2 or not reported as moved"
+fi
+expect_error "map update from another map" "upd_planes.json hashes to $planes_hash" -- \
+  "$planeloc" map update --planes "$work/upd_planes.json" --updates "$work/upd_other_map.json" \
+  --out "$work/upd_bad.json"
+expect_error "map update names the updates file" "upd_other_map.json" -- \
+  "$planeloc" map update --planes "$work/upd_planes.json" --updates "$work/upd_other_map.json" \
+  --out "$work/upd_bad.json"
+expect_error "map update negative sigma" "upd_sigma.json:5" -- \
+  "$planeloc" map update --planes "$work/upd_planes.json" --updates "$work/upd_sigma.json" \
+  --out "$work/upd_bad.json"
+expect_error "map update onto its input" "--out" -- \
+  "$planeloc" map update --planes "$work/upd_planes.json" --updates "$work/upd_good.json" \
+  --out "$work/upd_planes.json"
+if [ -e "$work/upd_bad.json" ] || ! cmp -s "$work/upd_planes.json" "$work/upd_planes.orig"; then
+  failed=$((failed + 1))
+  echo "FAIL map update: an output after a failure, or the input plane map changed"
+else
+  passed=$((passed + 1))
+fi
+expect_error "run --map-update without --planes" "--planes" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --map-update "$work/u.json" --out "$work/t.txt"
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "planeloc/eval/kitti_drift.h"
 #include "planeloc/eval/pose_path.h"
 #include "planeloc/eval/statistics.h"
+#include "planeloc/io/map_updates.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/io/trajectory.h"
 #include "planeloc/util/error.h"
@@ -132,7 +134,8 @@ void AddErrors(const Ground& gt, const PoseMatrices& estimate, const Eigen::Vect
   (*run)["error_stats"] = stats;
 }
 
-json PlanesJson(const PlaneMap& map) {
+// `states`: plane id -> its status in the run's map_update.json (none: no "state" field).
+json PlanesJson(const PlaneMap& map, const std::map<int, std::string>& states) {
   json planes = json::array();
   for (const MapPlane& plane : map.planes) {
     if (plane.polygon.size() < 3) continue;
@@ -144,6 +147,9 @@ json PlanesJson(const PlaneMap& map) {
                       {"kind", plane.kind.empty() ? "other" : plane.kind},
                       {"area", plane.area},
                       {"polygon", polygon}});
+    if (const auto state = states.find(plane.id); state != states.end()) {
+      planes.back()["state"] = state->second;
+    }
   }
   return planes;
 }
@@ -153,6 +159,7 @@ struct LoadedRun {
   fs::path trajectory_path;
   PoseMatrices poses;
   std::optional<PlaneMap> planes;
+  std::map<int, std::string> plane_states;  // from map_update.json (run --map-update)
   TrajectoryFormat format = TrajectoryFormat::kKitti;
 };
 
@@ -276,6 +283,11 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
   run.trajectory_path = trajectory;
   if (fs::is_regular_file(dir / "planes.json", error))
     run.planes = ReadPlaneMap(dir / "planes.json");
+  if (run.planes && fs::is_regular_file(dir / "map_update.json", error)) {
+    for (const PlaneUpdate& update : ReadMapUpdates(dir / "map_update.json").planes) {
+      run.plane_states[update.id] = ToString(update.status);
+    }
+  }
   const std::string mode = meta.value("mode", run.planes ? "planes" : "vo");
 
   json& out = run.data;
@@ -405,8 +417,12 @@ json BuildReportData(const HtmlReportOptions& options) {
   // The plane map: the first run's that has one. Its frame's "up" names the height axis; without
   // one, KITTI camera poses have y down and TUM files are usually z up.
   const PlaneMap* map = nullptr;
+  const std::map<int, std::string>* states = nullptr;
   for (const LoadedRun& run : runs) {
-    if (run.planes && !map) map = &*run.planes;
+    if (run.planes && !map) {
+      map = &*run.planes;
+      states = &run.plane_states;
+    }
   }
   Eigen::Vector3d up = runs[0].format == TrajectoryFormat::kTum ? Eigen::Vector3d(0, 0, 1)
                                                                 : Eigen::Vector3d(0, -1, 0);
@@ -420,7 +436,9 @@ json BuildReportData(const HtmlReportOptions& options) {
   data["title"] = options.title;
   data["up"] = {up.x(), up.y(), up.z()};
   data["up_source"] = up_source;
-  data["planes"] = map ? PlanesJson(*map) : json::array();
+  data["planes"] = map ? PlanesJson(*map, *states) : json::array();
+  // Planes coloured by what the run learned about them (run --map-update) instead of their kind.
+  data["plane_states"] = states != nullptr && !states->empty();
   data["gt"] = nullptr;
   std::optional<Ground> gt;
   if (options.gt_path) {

@@ -7,6 +7,8 @@
 //   summary.json    the end-of-run summary (<stats>.summary.json)
 //   settings.yaml   the effective settings (<out>.config.yaml)
 //   planes.json     the plane map the run used (plane mode only)
+//   map_update.json what the run learned about each plane (`run --map-update`): the 3-D view
+//                   colours the planes by it (unseen, confirmed, corrected, contradicted)
 //   keyframes/*.jpg a few keyframe overlays (LSD segments, plane outlines, features by plane;
 //                   .png is read too)
 // Only trajectory.txt is required; a missing optional file leaves its part of the report out.

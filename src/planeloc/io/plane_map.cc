@@ -180,6 +180,10 @@ MapPlane ReadMapPlane(const std::string& path, const std::string& text, const js
     plane.sigma =
         ReadSigma(reader, plane.plane_in_map.normal, LineOfKey(text, "sigma", sigmas_before));
   }
+  if (reader.Has("provenance")) {
+    if (!reader["provenance"].is_array()) reader.Fail("`provenance` is not an array");
+    plane.provenance = reader["provenance"];
+  }
   return plane;
 }
 
@@ -296,6 +300,7 @@ void WritePlaneMap(const std::filesystem::path& path, const PlaneMap& map) {
           {"normal", json::array({plane.sigma.normal.x(), plane.sigma.normal.y()})},
           {"major_axis", VectorJson(plane.sigma.major_axis)}};
     }
+    if (!plane.provenance.empty()) planes.back()["provenance"] = plane.provenance;
   }
   json document = {{"planes", planes}, {"stats", map.stats}};
   if (map.frame.known()) {

@@ -1,7 +1,8 @@
 // The plane map: planes extracted from a LiDAR map, as stored in planes.json:
 //   {"planes":[{"id":int,"normal":[nx,ny,nz],"d":float,"centroid":[..],"inliers":int,"rms":float,
 //               "area":float,"polygon":[[x,y,z],...],
-//               "sigma":{"offset":m,"normal":[rad,rad],"major_axis":[x,y,z]}}], "stats":{...},
+//               "sigma":{"offset":m,"normal":[rad,rad],"major_axis":[x,y,z]},
+//               "provenance":[{...}, ...]}], "stats":{...},
 //    "frame":{"name":str,"map":str,"up":[ux,uy,uz],"up_source":"given"|"detected"}}
 // with n . x + d = 0, |n| = 1, all in map coordinates: the frame of the point cloud the planes were
 // extracted from. "frame" is optional (files written before issue 17 have none). The simulator's
@@ -43,6 +44,9 @@ struct MapPlane {
   double area = 0.0;                     // square metres of the polygon
   std::vector<Eigen::Vector3d> polygon;  // outline in map coordinates, on the plane
   PlaneSigma sigma;                      // the map's own uncertainty of the plane
+  // What `planeloc map update` did to the plane, one object per run that reported on it
+  // (map/map_update.h); empty for a plane as extracted. Written only when non-empty.
+  nlohmann::json provenance = nlohmann::json::array();
 };
 
 // The frame the planes are expressed in: the frame of the LiDAR map they were extracted from

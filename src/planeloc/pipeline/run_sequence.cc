@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "planeloc/io/initial_pose.h"
+#include "planeloc/io/map_updates.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/pipeline/keyframe_overlay.h"
 #include "planeloc/util/error.h"
@@ -116,6 +117,7 @@ EffectiveSettings Effective(const RunOptions& run, std::optional<SettingsFile> f
   // up by itself: docs/bench-tracking.md, "Real-time replay").
   if (run.realtime) options.ba_max_lag_frames = 0;
   if (run.threads > 0) options.num_threads = run.threads;
+  if (run.map_update_path) options.record_plane_evidence = true;
   options.Check();
   return effective;
 }
@@ -136,6 +138,7 @@ void WriteReportFolder(const RunOptions& run, const RunSummary& summary,
   const fs::path settings = run.trajectory_path.string() + ".config.yaml";
   if (run.write_effective_settings) CopyInto(settings, dir / "settings.yaml");
   if (run.planes_path) CopyInto(*run.planes_path, dir / "planes.json");
+  if (run.map_update_path) CopyInto(*run.map_update_path, dir / "map_update.json");
 
   const std::vector<int> frames = OverlayFrames(summary.stats, run.report_keyframe_images);
   if (frames.empty()) return;
@@ -466,6 +469,13 @@ RunSummary RunSequence(const RunOptions& run) {
                          summary.camera, effective.calibration_from_settings,
                          effective.rectifier.get());
   }
+  // The planes.json the updates refer to, hashed before the run (`map update` checks it).
+  std::string planes_hash;
+  if (run.map_update_path) {
+    CheckInput(plane_map.has_value(), run.map_update_path->string(), 0,
+               "a map update needs the plane map it updates", "add --planes planes.json");
+    planes_hash = FileHash(*run.planes_path);
+  }
   TrajectoryWriter writer(run.trajectory_path, run.format);
   std::optional<OutputFile> stats_out;
   if (run.stats_path) stats_out.emplace(*run.stats_path, OutputFile::Mode::kIncremental);
@@ -490,6 +500,25 @@ RunSummary RunSequence(const RunOptions& run) {
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   SummarizeFrames(summary);
+  if (run.map_update_path && plane_map && tracker.plane_evidence()) {
+    MapUpdates updates;
+    updates.planes_path = *run.planes_path;
+    updates.planes_hash = planes_hash;
+    updates.planes_count = static_cast<int>(plane_map->planes.size());
+    updates.frame_name = plane_map->frame.known() ? plane_map->frame.name : "";
+    updates.sequence = run.source ? sequence.name() : run.sequence.string();
+    updates.frames = summary.frames;
+    updates.trajectory = run.trajectory_path.string();
+    updates.planes = tracker.plane_evidence()->Summarize();
+    for (const PlaneUpdate& plane : updates.planes)
+      ++summary.map_update_counts[ToString(plane.status)];
+    WriteMapUpdates(*run.map_update_path, updates);
+    spdlog::info(
+        "{}: planes unseen {}, confirmed {}, corrected {}, contradicted {} (docs/map-update.md)",
+        run.map_update_path->string(), summary.map_update_counts["unseen"],
+        summary.map_update_counts["confirmed"], summary.map_update_counts["corrected"],
+        summary.map_update_counts["contradicted"]);
+  }
   if (run.summary_path) {
     std::ofstream out(*run.summary_path);
     out << summary.ToJson() << '\n';
@@ -511,6 +540,16 @@ std::string RunSummary::ToJson() const {
       frames, tracked, lost, skipped, keyframes, mean_tracked_points, median_ba_reprojection_px,
       planes, mean_ba_plane_residuals, planes_disabled, consensus_corrections, seconds,
       final_map_lock, lock_events.size(), ba.ToJson());
+  if (!map_update_counts.empty()) {
+    json.pop_back();
+    json += ",\"map_update\":{";
+    bool first = true;
+    for (const auto& [status, count] : map_update_counts) {
+      json += fmt::format("{}\"{}\":{}", first ? "" : ",", status, count);
+      first = false;
+    }
+    json += "}}";
+  }
   if (latency_p50_ms) {
     json.pop_back();  // the closing brace
     json += fmt::format(",\"latency_ms\":{{\"p50\":{:.2f},\"p99\":{:.2f},\"max\":{:.2f}}}}}",

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -43,6 +44,9 @@ struct RunOptions {
   // How well world_from_cam_initial is known in the plane map's frame (--init-sigma); exact by
   // default. Unless exact, the run registers itself to the plane map (prior/map_lock.h).
   StartPrior start_prior;
+  // What the run learned about each plane of planes_path (io/map_updates.h), written at the end
+  // (`planeloc run --map-update`; needs planes_path).
+  std::optional<std::filesystem::path> map_update_path;
   bool write_effective_settings = true;  // <trajectory>.config.yaml
   // The folder `planeloc report` reads (eval/html_report.h lists its files), written after the
   // run: copies of the trajectory, stats, summary, effective settings and plane map, run.json,
@@ -87,6 +91,8 @@ struct RunSummary {
   int crease_keyframes = 0;
   double mean_visible_creases = 0, mean_confirmed_creases = 0;
   std::optional<double> median_edge_px;
+  // With map_update_path: planes per status (unseen, confirmed, corrected, contradicted).
+  std::map<std::string, int> map_update_counts;
   // The counts above (not the per-frame vectors) as one JSON object.
   std::string ToJson() const;
 };

@@ -174,6 +174,14 @@ const std::vector<Key>& Keys() {
       I("Planes.lsdLevel", [](O& o) -> int& { return o.planes.crease.lsd_level; }),
       B("Planes.lsdStrips", [](O& o) -> bool& { return o.planes.crease.lsd_strips; }),
       D("Planes.creaseConfirmPx", [](O& o) -> double& { return o.planes.crease.confirm_px; }),
+      D("MapUpdate.band", [](O& o) -> double& { return o.map_update.band; }),
+      I("MapUpdate.minPoints", [](O& o) -> int& { return o.map_update.min_points; }),
+      D("MapUpdate.trajectorySigma", [](O& o) -> double& { return o.map_update.trajectory_sigma; }),
+      D("MapUpdate.trajectoryTiltSigmaDeg",
+        [](O& o) -> double& { return o.map_update.trajectory_tilt_sigma_deg; }),
+      D("MapUpdate.minOffset", [](O& o) -> double& { return o.map_update.min_offset; }),
+      D("MapUpdate.minTiltDeg", [](O& o) -> double& { return o.map_update.min_tilt_deg; }),
+      D("MapUpdate.chi2", [](O& o) -> double& { return o.map_update.chi2; }),
       B("System.deterministic", [](O& o) -> bool& { return o.deterministic; }),
       I("System.threads", [](O& o) -> int& { return o.num_threads; }),
   };
@@ -279,6 +287,7 @@ void TrackerOptions::Check() const {
   Require(ba_max_lag_frames >= 0, "ba_max_lag_frames (LocalBA.maxLagFrames) must be >= 0");
   planes.Check();
   map_lock.Check();
+  map_update.Check();
   Require(num_threads >= 1, "num_threads must be >= 1");
   Require(ba_threads >= 0, "ba_threads (LocalBA.threads) must be >= 0");
 }

@@ -19,6 +19,7 @@
 #include "planeloc/optim/window_ba.h"
 #include "planeloc/prior/map_lock_options.h"
 #include "planeloc/prior/plane_association.h"
+#include "planeloc/prior/plane_evidence.h"
 #include "planeloc/tracking/odometry_options.h"
 
 namespace planeloc {
@@ -44,6 +45,9 @@ struct TrackerOptions : OdometryOptions {
   // With a plane map and an uncertain start (--init-sigma): when and how the run registers its
   // structure to the plane map (prior/map_lock.h).
   MapLockOptions map_lock;
+  // `planeloc run --map-update`: what the run learns about each plane (prior/plane_evidence.h).
+  bool record_plane_evidence = false;  // not a settings key: the run's --map-update turns it on
+  PlaneEvidenceOptions map_update;
 
   // Deterministic: local BA in line on the tracking thread (bit-identical runs).
   bool deterministic = false;

@@ -54,6 +54,9 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
                                                       : options_.num_threads;
   if (plane_map) {
     planes_ = std::make_unique<PlaneAssociator>(*plane_map, options_.planes);
+    if (options_.record_plane_evidence) {
+      evidence_ = std::make_unique<PlaneEvidence>(*plane_map, *planes_, options_.map_update);
+    }
     // An exact start is locked from frame 0; the locker still re-registers after a loss.
     locker_ = std::make_unique<MapLocker>(*plane_map, options_.map_lock, start_prior,
                                           world_from_cam_initial);
@@ -391,6 +394,7 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
     }
     planes_->CommitRecords();
     planes_->UpdateHealth(AssociateWindowPlanes(job.problem, estimates, options_.planes, *planes_));
+    if (evidence_) RecordEvidence(keyframe_id, job.problem, estimates);
   }
   if (planes_) stats.planes_disabled = planes_->num_disabled();
   if (job.problem.observations.empty()) {
@@ -399,6 +403,23 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
   }
   job.snapshot = SnapshotWindow(map_, job.problem);
   return job;
+}
+
+void Tracker::RecordEvidence(int keyframe_id, const WindowProblem& problem,
+                             const WindowPointEstimates& estimates) {
+  std::vector<EvidencePoint> points;
+  points.reserve(problem.points.size());
+  for (std::size_t i = 0; i < problem.points.size(); ++i) {
+    if (!estimates[i]) continue;
+    const MapPoint& point = map_.point(problem.points[i].id);
+    if (point.observations.empty()) continue;
+    // Any camera that saw the point draws a ray through the space in front of it.
+    const int observer = point.observations.begin()->first;
+    points.push_back({problem.points[i].id, *estimates[i], map_.keyframe(observer).CameraCenter()});
+  }
+  const int frame = map_.keyframe(keyframe_id).frame_id;
+  evidence_->ObserveWindow(frame, points);
+  evidence_->NoteDisabled(frame);
 }
 
 void Tracker::SubmitBa(int keyframe_id, FrameStats& stats, Frame* current) {
@@ -518,6 +539,7 @@ void Tracker::LockBookkeeping(const MapCorrection& correction, int frame_id) {
     // Until the window BA has pulled the trajectory onto the planes, a plane's points may sit off
     // it by the lock's own error: that is no evidence against the plane.
     planes_->ResetHealth();
+    if (evidence_) evidence_->Reset();
     planes_->SetTrajectoryCovariance(correction.camera_position_covariance);
     settle_until_keyframe_id_ = map_.last_keyframe_id() + options_.map_lock.settle_keyframes;
   }

@@ -30,6 +30,8 @@
 #include "planeloc/pipeline/settings.h"
 #include "planeloc/prior/map_lock.h"
 #include "planeloc/prior/plane_association.h"
+#include "planeloc/prior/plane_evidence.h"
+#include "planeloc/prior/window_planes.h"
 #include "planeloc/tracking/frame.h"
 #include "planeloc/tracking/map.h"
 
@@ -77,6 +79,9 @@ class Tracker {
   // Map moves by the planes' consensus on the trajectory's offset (Planes.trajectoryConsensus).
   int consensus_corrections() const { return consensus_corrections_; }
   const TrackerOptions& options() const { return options_; }
+  // With options.record_plane_evidence and a plane map: what the run learned about each plane;
+  // nullptr otherwise.
+  const PlaneEvidence* plane_evidence() const { return evidence_.get(); }
 
  private:
   // Start of a frame: applies the workers' finished results (waits for a BA overdue by
@@ -102,6 +107,9 @@ class Tracker {
   // the trajectory sits off the map (PlaneAssociator::trajectory_offset of the closed records),
   // moves the map by that offset (`current` with it) and returns true.
   bool MoveMapByPlaneConsensus(FrameStats& stats, Frame* current);
+  // Adds the window's points to the plane evidence (options.record_plane_evidence).
+  void RecordEvidence(int keyframe_id, const WindowProblem& problem,
+                      const WindowPointEstimates& estimates);
   // Builds the keyframe's BA window and hands it to the worker (threaded mode).
   void SubmitBa(int keyframe_id, FrameStats& stats, Frame* current);
   // Submits the deferred keyframe's BA once the worker is idle.
@@ -130,6 +138,7 @@ class Tracker {
   StereoCamera camera_;
   TrackerOptions options_;  // options_.ba.lambda is 1 (visual BA) without a plane map
   std::unique_ptr<PlaneAssociator> planes_;
+  std::unique_ptr<PlaneEvidence> evidence_;  // with planes_ and options.record_plane_evidence
   OrbExtractor extractor_;
   SparseMap map_;
   std::unique_ptr<BaScheduler> ba_scheduler_;  // threaded mode

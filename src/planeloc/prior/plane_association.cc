@@ -445,6 +445,22 @@ void PlaneAssociator::ResetHealth() {
   consensus_ = TrajectoryConsensus{};
 }
 
+void PlaneAssociator::PlanesNear(const Eigen::Vector3d& point_in_map, std::vector<int>& ids) const {
+  if (!point_in_map.allFinite()) return;
+  ForCandidates(point_in_map, [&](std::size_t index) {
+    ids.push_back(planes_[index].plane.id);
+    return true;
+  });
+}
+
+bool PlaneAssociator::InsideOutline(int id, const Eigen::Vector3d& point_in_map,
+                                    double margin) const {
+  const FlatPlane& flat = planes_[index_by_id_.at(id)];
+  if (flat.outline.ring().size() < 3) return true;
+  const Eigen::Vector2d q(point_in_map.dot(flat.u), point_in_map.dot(flat.v));
+  return flat.outline.InsideOrNear(q, margin);
+}
+
 const MapPlane& PlaneAssociator::plane(int id) const {
   const auto it = index_by_id_.find(id);
   if (it == index_by_id_.end()) {

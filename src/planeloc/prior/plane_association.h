@@ -180,6 +180,15 @@ class PlaneAssociator {
                                                 const std::vector<cv::Mat>& left_pyramid);
   const CreaseChecker* crease_checker() const { return creases_.get(); }
 
+  // Appends to `ids` the planes (enabled or disabled) whose lookup cells contain the point: every
+  // plane whose bounding box grown by polygon_margin + max(max_distance, stats_band) does.
+  void PlanesNear(const Eigen::Vector3d& point_in_map, std::vector<int>& ids) const;
+  // Whether the point's projection onto plane `id` lies inside its outline grown by `margin`
+  // metres (always true for a plane without an outline).
+  bool InsideOutline(int id, const Eigen::Vector3d& point_in_map, double margin) const;
+  // Whether the map plane `id` is used (planes below min_plane_area are not).
+  bool Contains(int id) const { return index_by_id_.count(id) > 0; }
+
   // Plane by id (as in planes.json). Throws std::out_of_range for an unknown id.
   const MapPlane& plane(int id) const;
   const PlaneHealth& health(int id) const;
