@@ -5,15 +5,18 @@ Each plane of planes.json (extracted from the mapping-time LiDAR map) is matched
 of the simulator's planes_gt.json whose normal agrees within --angle degrees, whose outline's
 bounding box (grown by 1 m) holds the plane's centroid, and whose plane passes nearest to that
 centroid (within --max-distance metres). Its label is that GT plane's `change` (unchanged, moved
-by offset_m, removed), or `none` (no GT plane: a car, a kerb). The true offset of a moved plane is
-offset_m times the sign of n . n_gt (points now sit at +offset from the extracted plane).
+by offset_m, removed), or `none` (no GT plane: a car, a kerb). Its true offset is where the GT
+plane is now, seen from the extracted plane at its centroid c along its normal n (points now sit
+at +offset): -(n_gt . c + d_gt - offset_m) / (n_gt . n); for an unchanged plane that is the
+extraction's own error.
 
 Per updates file it prints, and writes with --json:
   - moved planes seen over at least --min-span frames (first to last frame seen): how many the
     run called corrected (recall) and, of all corrected planes, how many are moved (precision);
   - the median |offset - true offset| of the corrected moved planes;
-  - false alarms: unchanged planes corrected beyond 2 sigma or contradicted, per km driven
-    (--poses: the GT poses of the run's frames).
+  - false alarms, per km driven (--poses: the GT poses of the run's frames): planes within
+    --right metres of the world (true offset) called corrected, and planes not removed called
+    contradicted.
 
   scripts/eval_map_update.py --planes planes.json --gt planes_gt.json --updates u.json [...]
                              [--poses poses.txt] [--json out.json]
@@ -59,7 +62,7 @@ def path_length_km(poses_path):
     return sum(math.dist(a, b) for a, b in zip(positions, positions[1:])) / 1000.0
 
 
-def score(updates, labels, km, min_span):
+def score(updates, labels, km, min_span, right):
     moved_seen, moved_detected, corrected, corrected_moved = 0, 0, 0, 0
     errors, false_alarms, contradicted_removed = [], [], 0
     for entry in updates["planes"]:
@@ -75,9 +78,9 @@ def score(updates, labels, km, min_span):
             if label == "moved":
                 corrected_moved += 1
                 errors.append(abs(entry["offset"] - true_offset))
-        if label == "unchanged":
-            beyond = status == "corrected" and abs(entry["offset"]) > 2 * entry["offset_sigma"]
-            if beyond or status == "contradicted":
+        if label in ("unchanged", "moved"):
+            wrong_correction = status == "corrected" and abs(true_offset) < right
+            if wrong_correction or (status == "contradicted" and label != "removed"):
                 false_alarms.append(entry["id"])
         if label == "removed" and status == "contradicted":
             contradicted_removed += 1
@@ -106,6 +109,7 @@ def main():
     parser.add_argument("--angle", type=float, default=5.0)
     parser.add_argument("--max-distance", type=float, default=0.3)
     parser.add_argument("--min-span", type=int, default=20)
+    parser.add_argument("--right", type=float, default=0.05)
     parser.add_argument("--json")
     args = parser.parse_args()
     planes = json.load(open(args.planes))["planes"]
@@ -116,12 +120,13 @@ def main():
         if gt is None:
             continue
         change = gt.get("change", "unchanged")
-        offset = gt.get("offset_m", 0.0) * (1 if dot(plane["normal"], gt["normal"]) > 0 else -1)
-        labels[plane["id"]] = (change, offset if change == "moved" else 0.0)
+        d_now = gt["d"] - (gt.get("offset_m", 0.0) if change == "moved" else 0.0)
+        offset = -(dot(gt["normal"], plane["centroid"]) + d_now) / dot(gt["normal"], plane["normal"])
+        labels[plane["id"]] = (change, offset)
     km = path_length_km(args.poses) if args.poses else None
     results = {}
     for path in args.updates:
-        result = score(json.load(open(path)), labels, km, args.min_span)
+        result = score(json.load(open(path)), labels, km, args.min_span, args.right)
         results[path] = result
         print(f"{path}: moved seen {result['moved_seen']}, detected {result['moved_detected']}"
               f" (recall {result['recall']}), corrected {result['corrected']} of which moved "

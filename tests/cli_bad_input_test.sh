@@ -159,15 +159,17 @@ h = 0xcbf29ce484222325
 for b in open(sys.argv[1], "rb").read():
     h = ((h ^ b) * 0x100000001b3) % (1 << 64)
 print("%016x" % h)' "$work/upd_planes.json")"
-updates_json() {  # HASH OFFSET_SIGMA
-  printf '{"format": "planeloc map updates 1",\n "planes_file": {"path": "p.json", "fnv1a64": "%s", "planes": 1, "frame": "map"},\n "run": {"sequence": "s", "frames": 10, "trajectory": "t.txt"},\n "planes": [\n  {"id": 4, "status": "corrected", "points": 90, "through": 0, "frames": [3, 5],\n   "disabled_at_frame": null, "offset": 0.2, "offset_sigma": %s, "tilt": [0, 0],\n   "tilt_sigma": [1, 1], "normal": [1, 0, 0], "d": -6.2}]}\n' "$1" "$2"
+updates_json() {  # HASH OFFSET_SIGMA [SEQUENCE]
+  printf '{"format": "planeloc map updates 1",\n "planes_file": {"path": "p.json", "fnv1a64": "%s", "planes": 1, "frame": "map"},\n "run": {"sequence": "%s", "frames": 10, "trajectory": "t.txt"},\n "planes": [\n  {"id": 4, "status": "corrected", "points": 90, "through": 0, "frames": [3, 5],\n   "disabled_at_frame": null, "offset": 0.2, "offset_sigma": %s, "tilt": [0, 0],\n   "tilt_sigma": [1, 1], "normal": [1, 0, 0], "d": -6.2}]}\n' "$1" "${3:-s}" "$2"
 }
 updates_json "$planes_hash" 0.03 >"$work/upd_good.json"
+updates_json "$planes_hash" 0.03 s2 >"$work/upd_good2.json"
 updates_json "00000000deadbeef" 0.03 >"$work/upd_other_map.json"
 updates_json "$planes_hash" -0.03 >"$work/upd_sigma.json"
 cp "$work/upd_planes.json" "$work/upd_planes.orig"
-expect_ok "map update fuses a run" -- "$planeloc" map update --planes "$work/upd_planes.json" \
-  --updates "$work/upd_good.json" --out "$work/upd_new.json" --report "$work/upd_changes.md"
+expect_ok "map update fuses two runs" -- "$planeloc" map update --planes "$work/upd_planes.json" \
+  --updates "$work/upd_good.json" "$work/upd_good2.json" --out "$work/upd_new.json" \
+  --report "$work/upd_changes.md"
 if grep -q '"d": -6.2' "$work/upd_new.json" && grep -q '| 4 | moved |' "$work/upd_changes.md"; then
   passed=$((passed + 1))
 else

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 
+#include "planeloc/io/map_updates.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/temp_dir.h"
 
@@ -143,6 +144,22 @@ TEST_F(ReportFolderTest, ErrorsStatsAndTrackingSeries) {
   EXPECT_EQ(run["images"][0]["name"], "keyframe_000002");
   EXPECT_EQ(run["images"][0]["mime"], "image/png");
   EXPECT_EQ(run["images"][0]["data"], "Zm9v");
+}
+
+TEST_F(ReportFolderTest, PlanesTakeTheirStateFromTheRunsMapUpdate) {
+  EXPECT_FALSE(BuildReportData(options_)["plane_states"].get<bool>());
+  MapUpdates updates;
+  updates.planes_count = 1;
+  PlaneUpdate update;
+  update.id = 7;
+  update.status = PlaneUpdateStatus::kContradicted;
+  update.through = 40;
+  updates.planes = {update};
+  WriteMapUpdates(run_ / "map_update.json", updates);
+  const nlohmann::json data = BuildReportData(options_);
+  EXPECT_TRUE(data["plane_states"].get<bool>());
+  ASSERT_EQ(data["planes"].size(), 1u);
+  EXPECT_EQ(data["planes"][0]["state"], "contradicted");
 }
 
 // Pose k of a run and of the GT are the same frame, as `planeloc eval` pairs them: a run cut

@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "planeloc/util/error.h"
 
@@ -18,6 +21,15 @@ constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
 constexpr double kUnconstrainedTilt = 0.5;
 
 using Vector3 = Eigen::Vector3d;
+
+// The 99 % quantile of chi-square with `dof` degrees of freedom (0 for none); Wilson-Hilferty
+// beyond the table.
+double ChiSquare99(int dof) {
+  static const double kTable[] = {0.0, 6.635, 9.210, 11.345, 13.277, 15.086};
+  if (dof < 6) return kTable[std::max(0, dof)];
+  const double k = dof, z = 2.326;
+  return k * std::pow(1.0 - 2.0 / (9.0 * k) + z * std::sqrt(2.0 / (9.0 * k)), 3);
+}
 
 Vector3 Correction(const PlaneUpdate& update) {
   return Vector3(update.offset, update.tilt.x(), update.tilt.y());
@@ -54,6 +66,8 @@ const char* ToString(PlaneChangeAction action) {
       return "unchanged";
     case PlaneChangeAction::kConfirmed:
       return "confirmed";
+    case PlaneChangeAction::kSuspect:
+      return "suspect";
     case PlaneChangeAction::kMoved:
       return "moved";
     case PlaneChangeAction::kRetired:
@@ -105,8 +119,10 @@ MapUpdateResult FuseMapUpdates(const PlaneMap& map, const std::vector<MapUpdates
   for (const MapPlane& plane : map.planes) {
     PlaneChange change;
     change.id = plane.id;
-    Vector3 information = Vector3::Zero();  // diagonal, sum of R_i^-1
-    Vector3 weighted = Vector3::Zero();     // sum of R_i^-1 x_i
+    Vector3 information = Vector3::Zero();           // diagonal, sum of R_i^-1
+    Vector3 weighted = Vector3::Zero();              // sum of R_i^-1 x_i
+    std::vector<std::pair<double, double>> offsets;  // each measuring run's offset and variance
+    std::set<std::string> sequences;                 // of the measuring runs
     MapPlane updated = plane;
     for (std::size_t k = 0; k < updates.size(); ++k) {
       const auto found = by_id[k].find(plane.id);
@@ -119,6 +135,8 @@ MapUpdateResult FuseMapUpdates(const PlaneMap& map, const std::vector<MapUpdates
         const Vector3 inverse = Variance(update).cwiseInverse();
         information += inverse;
         weighted += inverse.cwiseProduct(Correction(update));
+        offsets.emplace_back(update.offset, Variance(update)[0]);
+        sequences.insert(updates[k].sequence);
       }
       if (update.status == PlaneUpdateStatus::kUnseen && update.frames.empty()) continue;
       nlohmann::json entry = {{"update", updates[k].source.filename().string()},
@@ -151,38 +169,63 @@ MapUpdateResult FuseMapUpdates(const PlaneMap& map, const std::vector<MapUpdates
       change.chi2 = tested.cwiseAbs2().cwiseQuotient(prior_variance + runs_variance).sum();
       const bool large = std::abs(tested[0]) >= options.min_offset ||
                          tested.tail<2>().norm() >= options.min_tilt_deg * kRadiansPerDegree;
-      Vector3 correction, variance;
-      if (change.chi2 > options.chi2 && large) {
+      // The runs must agree with each other before their mean replaces the plane: a run whose
+      // trajectory was off measures every plane off by it.
+      double spread = 0;
+      for (const auto& [offset, variance] : offsets) {
+        spread += (offset - runs[0]) * (offset - runs[0]) / variance;
+      }
+      const bool agree = spread <= ChiSquare99(static_cast<int>(offsets.size()) - 1);
+      if (change.chi2 > options.chi2 && large &&
+          static_cast<int>(sequences.size()) >= options.min_runs_to_move && agree) {
         change.action = PlaneChangeAction::kMoved;
-        correction = tested;
-        variance = runs_variance;
+        Vector3 variance = runs_variance;
         for (int i = 1; i < 3; ++i) {
           if (runs_variance[i] >= kUnconstrainedTilt * kUnconstrainedTilt) {
             variance[i] = prior_variance[i];
           }
         }
         change.reason = fmt::format(
-            "{} run(s) put it {:+.3f} m (sigma {:.3f}) and {:.2f} deg off the map (sigma {:.3f} m "
+            "{} runs put it {:+.3f} m (sigma {:.3f}) and {:.2f} deg off the map (sigma {:.3f} m "
             "there); chi2 {:.1f} > {:.2f}",
             change.runs_measured, runs[0], std::sqrt(runs_variance[0]),
             tested.tail<2>().norm() / kRadiansPerDegree, prior[0], change.chi2, options.chi2);
+        updated = Corrected(updated, tested);
+        updated.sigma.offset = std::sqrt(variance[0]);
+        updated.sigma.normal = variance.tail<2>().cwiseSqrt();
+        change.offset = tested[0];
+        change.tilt = tested.tail<2>();
+        change.offset_sigma = updated.sigma.offset;
+        change.tilt_sigma = updated.sigma.normal;
+      } else if (change.chi2 > options.chi2 && large) {
+        change.action = PlaneChangeAction::kSuspect;
+        change.offset = tested[0];
+        change.tilt = tested.tail<2>();
+        change.offset_sigma = std::sqrt(runs_variance[0]);
+        change.tilt_sigma = runs_variance.tail<2>().cwiseSqrt();
+        change.reason =
+            !agree ? fmt::format(
+                         "{} runs put it {:+.3f} m (sigma {:.3f}) off the map on average, but "
+                         "disagree with each other (chi2 {:.1f} of their spread); kept",
+                         change.runs_measured, runs[0], std::sqrt(runs_variance[0]), spread)
+                   : fmt::format(
+                         "{} run(s) of {} sequence(s) put it {:+.3f} m (sigma {:.3f}) and {:.2f} "
+                         "deg off the map (chi2 {:.1f} > {:.2f}); kept until runs of {} "
+                         "sequences agree (one drive cannot tell its trajectory's error from the "
+                         "plane's)",
+                         change.runs_measured, sequences.size(), runs[0],
+                         std::sqrt(runs_variance[0]), tested.tail<2>().norm() / kRadiansPerDegree,
+                         change.chi2, options.chi2, options.min_runs_to_move);
       } else {
         change.action = PlaneChangeAction::kConfirmed;
-        variance = (prior_variance.cwiseInverse() + information).cwiseInverse();
-        correction = variance.cwiseProduct(weighted);
         change.reason = fmt::format(
             "{} run(s) measured it where the map has it within their uncertainty (chi2 {:.1f} <= "
             "{:.2f}, or below {:.3f} m and {:.1f} deg)",
             change.runs_measured, change.chi2, options.chi2, options.min_offset,
             options.min_tilt_deg);
+        change.offset_sigma = updated.sigma.offset;
+        change.tilt_sigma = updated.sigma.normal;
       }
-      updated = Corrected(updated, correction);
-      updated.sigma.offset = std::sqrt(variance[0]);
-      updated.sigma.normal = variance.tail<2>().cwiseSqrt();
-      change.offset = correction[0];
-      change.tilt = correction.tail<2>();
-      change.offset_sigma = updated.sigma.offset;
-      change.tilt_sigma = updated.sigma.normal;
     } else {
       change.reason = change.runs_seen > 0 ? "seen, but by too few points to say" : "not seen";
     }
@@ -219,14 +262,15 @@ std::string ChangesMarkdown(const PlaneMap& map, const std::vector<MapUpdates>& 
                         update.frames);
   }
   text += fmt::format(
-      "\n{} planes: {} moved, {} retired, {} confirmed, {} unchanged.\n\n"
+      "\n{} planes: {} moved, {} retired, {} suspect, {} confirmed, {} unchanged.\n\n"
       "| plane | action | runs measured / contradicted / seen | offset (m) | sigma (m) | tilt "
       "(deg) | why |\n|---|---|---|---|---|---|---|\n",
-      map.planes.size(), counts["moved"], counts["retired"], counts["confirmed"],
+      map.planes.size(), counts["moved"], counts["retired"], counts["suspect"], counts["confirmed"],
       counts["unchanged"]);
   // Moved and retired first: they are what a map maintainer looks at.
   for (const PlaneChangeAction action :
-       {PlaneChangeAction::kMoved, PlaneChangeAction::kRetired, PlaneChangeAction::kConfirmed}) {
+       {PlaneChangeAction::kMoved, PlaneChangeAction::kRetired, PlaneChangeAction::kSuspect,
+        PlaneChangeAction::kConfirmed}) {
     for (const PlaneChange& change : result.changes) {
       if (change.action != action) continue;
       text +=

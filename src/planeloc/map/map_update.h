@@ -9,8 +9,13 @@
 //     min_offset or min_tilt: the plane is replaced by the runs' estimate and its sigma by R_r
 //     (a change is not noise about the old plane, so the old plane is no prior for the new one;
 //     a tilt no run constrained keeps the map's);
-//   - confirmed: measured and consistent: the Gaussian posterior of prior and runs,
-//     (P0^-1 + R_r^-1)^-1, moves it by the posterior mean and shrinks its sigma;
+//     This needs runs of at least min_runs_to_move distinct sequences (2) whose offsets agree with
+//     each other (chi^2 of their spread about the mean within its 99 % quantile): otherwise the
+//     plane is
+//   - suspect: off the map as above, but measured by too few runs or by runs that disagree; kept
+//     as it is;
+//   - confirmed: measured and consistent: kept as it is, sigma included (the runs' measurements
+//     share their trajectories' errors; a posterior mean would move correct planes by them);
 //   - retired: more runs saw through it (contradicted) than measured it, at least one;
 //   - unchanged: no run measured or contradicted it.
 // Each plane's "provenance" gains one entry per input run; stats.map_update lists the inputs and
@@ -27,12 +32,16 @@
 namespace planeloc {
 
 struct MapUpdateOptions {
+  // Drives (distinct run sequences) that must have measured a plane before it is moved: one run's
+  // measurements of all its planes share that run's trajectory error, which the run cannot tell
+  // from the planes' own, and two runs of the same images share most of it.
+  int min_runs_to_move = 2;
   double chi2 = 11.34;        // 3 DoF, 99 %
   double min_offset = 0.05;   // metres
   double min_tilt_deg = 0.5;  // degrees
 };
 
-enum class PlaneChangeAction { kUnchanged, kConfirmed, kMoved, kRetired };
+enum class PlaneChangeAction { kUnchanged, kConfirmed, kSuspect, kMoved, kRetired };
 const char* ToString(PlaneChangeAction action);
 
 struct PlaneChange {

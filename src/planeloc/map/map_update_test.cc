@@ -49,6 +49,7 @@ PlaneUpdate Measured(int id, PlaneUpdateStatus status, double offset, double sig
 MapUpdates RunUpdates(const std::string& name, std::vector<PlaneUpdate> planes) {
   MapUpdates updates;
   updates.source = name;
+  updates.sequence = "drive " + name;
   updates.planes_hash = "00000000000000aa";
   updates.planes_count = 4;
   updates.frame_name = "map";
@@ -93,11 +94,10 @@ TEST(MapUpdateTest, RunsMoveConfirmRetireAndLeaveUnseenPlanes) {
   EXPECT_EQ(moved.sigma.normal, map.planes[0].sigma.normal);  // no run measured its tilt
   EXPECT_EQ(moved.provenance.size(), 2u);
   EXPECT_EQ(moved.provenance[0]["status"], "corrected");
-  // Confirmed: the posterior of the map's 5 cm and two 3 cm measurements averaging zero.
+  // Confirmed: kept as it is, its sigma too.
   const MapPlane& confirmed = result.planes.planes[1];
-  const double posterior = 1.0 / std::sqrt(1 / 0.0025 + 2 / 0.0009);
-  EXPECT_NEAR(confirmed.sigma.offset, posterior, 1e-9);
-  EXPECT_NEAR(confirmed.plane_in_map.d, 6.0, 1e-9);
+  EXPECT_EQ(confirmed.sigma.offset, 0.05);
+  EXPECT_EQ(confirmed.plane_in_map.d, 6.0);
   EXPECT_EQ(result.planes.planes[2].id, 4);
   EXPECT_TRUE(result.planes.planes[2].provenance.empty());
   EXPECT_EQ(result.planes.stats["map_update"]["retired"], nlohmann::json::array({3}));
@@ -113,8 +113,36 @@ TEST(MapUpdateTest, ARunThatDisagreesWithinTheMapsSigmaOnlyConfirms) {
       Map(), {RunUpdates("a.json", {Measured(1, PlaneUpdateStatus::kCorrected, 0.06, 0.03)})});
   EXPECT_EQ(result.changes[0].action, PlaneChangeAction::kConfirmed);
   EXPECT_NEAR(result.changes[0].chi2, 0.0036 / 0.0034, 1e-9);
-  // The posterior mean: 0.06 weighted 1/0.0009 against the map's 0 weighted 1/0.0025.
-  EXPECT_NEAR(result.changes[0].offset, 0.06 * 0.0025 / 0.0034, 1e-9);
+  EXPECT_EQ(result.planes.planes[0].plane_in_map.d, -6.0);
+}
+
+TEST(MapUpdateTest, OneRunOffTheMapMakesItSuspectNotMoved) {
+  // One run's measurements share its trajectory's error: 0.2 m off is not enough to move it.
+  const PlaneMap map = Map();
+  const MapUpdateResult result = FuseMapUpdates(
+      map, {RunUpdates("a.json", {Measured(1, PlaneUpdateStatus::kCorrected, 0.2, 0.03)})});
+  EXPECT_EQ(result.changes[0].action, PlaneChangeAction::kSuspect);
+  EXPECT_NEAR(result.changes[0].offset, 0.2, 1e-9);
+  EXPECT_NEAR(result.changes[0].offset_sigma, 0.03, 1e-9);
+  EXPECT_EQ(result.planes.planes[0].plane_in_map.d, -6.0);
+  EXPECT_EQ(result.planes.planes[0].provenance.size(), 1u);
+}
+
+TEST(MapUpdateTest, TwoRunsOfTheSameDriveCountOnce) {
+  MapUpdates a = RunUpdates("a.json", {Measured(1, PlaneUpdateStatus::kCorrected, 0.2, 0.03)});
+  MapUpdates b = RunUpdates("b.json", {Measured(1, PlaneUpdateStatus::kCorrected, 0.2, 0.03)});
+  b.sequence = a.sequence;
+  EXPECT_EQ(FuseMapUpdates(Map(), {a, b}).changes[0].action, PlaneChangeAction::kSuspect);
+}
+
+TEST(MapUpdateTest, RunsThatDisagreeDoNotMoveAPlane) {
+  // Both runs put it off the map, by 0.45 and 0.05 m: their mean (0.25 m) is neither.
+  const MapUpdateResult result = FuseMapUpdates(
+      Map(), {RunUpdates("a.json", {Measured(1, PlaneUpdateStatus::kCorrected, 0.45, 0.03)}),
+              RunUpdates("b.json", {Measured(1, PlaneUpdateStatus::kConfirmed, 0.05, 0.03)})});
+  EXPECT_EQ(result.changes[0].action, PlaneChangeAction::kSuspect);
+  EXPECT_NE(result.changes[0].reason.find("disagree"), std::string::npos);
+  EXPECT_EQ(result.planes.planes[0].plane_in_map.d, -6.0);
 }
 
 TEST(MapUpdateTest, AMeasuredTiltRotatesThePlaneAboutItsCentroid) {
@@ -122,12 +150,13 @@ TEST(MapUpdateTest, AMeasuredTiltRotatesThePlaneAboutItsCentroid) {
   // 2 deg about n x major = (1,0,0) x (0,0,1) = (0,-1,0): the normal turns towards +z.
   update.tilt = Eigen::Vector2d(0.0, 2.0 * kDeg);
   update.tilt_sigma = Eigen::Vector2d(1.0, 0.002);
-  const MapUpdateResult result = FuseMapUpdates(Map(), {RunUpdates("a.json", {update})});
+  const MapUpdateResult result =
+      FuseMapUpdates(Map(), {RunUpdates("a.json", {update}), RunUpdates("b.json", {update})});
   ASSERT_EQ(result.changes[0].action, PlaneChangeAction::kMoved);
   const Plane& plane = result.planes.planes[0].plane_in_map;
   EXPECT_NEAR(plane.normal.dot(Eigen::Vector3d(0, 0, 1)), std::sin(2.0 * kDeg), 1e-4);
   EXPECT_NEAR(plane.SignedDistance(Eigen::Vector3d(6, -2, 20)), 0.0, 1e-9);  // the centroid
-  EXPECT_NEAR(result.planes.planes[0].sigma.normal.y(), 0.002, 1e-9);
+  EXPECT_NEAR(result.planes.planes[0].sigma.normal.y(), 0.002 / std::sqrt(2.0), 1e-9);
 }
 
 TEST(MapUpdateTest, UpdatesFromAnotherMapAreRefusedNamingBothFiles) {
