@@ -9,6 +9,8 @@ PACKAGES=(
   libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-numpy python3-pil
+  # `import planeloc` (python/, issue 36) and its pytest suite.
+  pybind11-dev python3-dev python3-pytest
   libjs-three chromium
   # clang and its sanitizer and libFuzzer runtimes: scripts/test.sh --sanitize, scripts/fuzz.sh.
   clang libclang-rt-14-dev

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "planeloc/io/json_text.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/safe_file.h"
 
@@ -20,11 +21,6 @@ using nlohmann::json;
 
 constexpr const char* kFormat = "planeloc map updates 1";
 constexpr const char* kFix = "write it again with `planeloc run --map-update` (docs/map-update.md)";
-
-int LineOfByte(const std::string& text, std::size_t byte) {
-  const auto end = text.begin() + static_cast<std::ptrdiff_t>(std::min(byte, text.size()));
-  return 1 + static_cast<int>(std::count(text.begin(), end, '\n'));
-}
 
 // Line of the `occurrence`-th "id" key: the plane entry's first line as written.
 int LineOfEntry(const std::string& text, std::size_t occurrence) {
@@ -170,15 +166,7 @@ MapUpdates ReadMapUpdates(const std::filesystem::path& path) {
              "pass the file `planeloc run --map-update` wrote");
   const std::string text((std::istreambuf_iterator<char>(stream)),
                          std::istreambuf_iterator<char>());
-  json document;
-  try {
-    document = json::parse(text);
-  } catch (const json::parse_error& error) {
-    throw InputError(name, LineOfByte(text, error.byte > 0 ? error.byte - 1 : 0),
-                     fmt::format("invalid JSON: {}", error.what()), kFix);
-  } catch (const json::exception& error) {
-    throw InputError(name, fmt::format("invalid JSON: {}", error.what()), kFix);
-  }
+  const json document = ParseJsonText(name, text, kFix);
   CheckInput(document.is_object() && document.value("format", json()) == kFormat, name, 0,
              fmt::format("not a map updates file (no \"format\": \"{}\")", kFormat), kFix);
   MapUpdates updates;

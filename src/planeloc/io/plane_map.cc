@@ -9,6 +9,7 @@
 #include <limits>
 #include <set>
 
+#include "planeloc/io/json_text.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/safe_file.h"
 
@@ -93,12 +94,6 @@ class PlaneReader {
   const json& object_;
   std::string where_;
 };
-
-// 1-based line of a byte offset, for JSON syntax errors.
-int LineOfByte(const std::string& text, std::size_t byte) {
-  const auto end = text.begin() + static_cast<std::ptrdiff_t>(std::min(byte, text.size()));
-  return 1 + static_cast<int>(std::count(text.begin(), end, '\n'));
-}
 
 // Line (1-based) of the `occurrence`-th (0-based) appearance of "key" in the text, 0 if none:
 // points a message at a plane's field in a file written one field per line.
@@ -245,16 +240,7 @@ PlaneMap ReadPlaneMap(const std::filesystem::path& path) {
              "build it with `planeloc map` or pass the right --planes path");
   const std::string text((std::istreambuf_iterator<char>(stream)),
                          std::istreambuf_iterator<char>());
-  json document;
-  try {
-    document = json::parse(text);
-  } catch (const json::parse_error& error) {
-    throw InputError(path.string(), LineOfByte(text, error.byte > 0 ? error.byte - 1 : 0),
-                     fmt::format("invalid JSON: {}", error.what()), "fix the JSON syntax");
-  } catch (const json::exception& error) {  // e.g. a number overflowing a double
-    throw InputError(path.string(), fmt::format("invalid JSON: {}", error.what()),
-                     "fix the JSON; numbers must be finite doubles");
-  }
+  const json document = ParseJsonText(path.string(), text, "fix the JSON syntax");
   CheckInput(document.is_object() && document.contains("planes") && document["planes"].is_array(),
              path.string(), 0, "no `planes` array at the top level", kSchemaFix);
   PlaneMap map;
