@@ -55,7 +55,8 @@ fi
 
 step "4/7 stereo localization in the plane map (point-to-plane constraints on)"
 "$planeloc" run --sequence "$sequence" --init-pose-from "$poses" --planes "$out/planes.json" \
-  --out "$out/traj_planes.txt" --stats "$out/stats_planes.jsonl" --report-dir "$out/run_planes"
+  --out "$out/traj_planes.txt" --stats "$out/stats_planes.jsonl" --report-dir "$out/run_planes" \
+  --map-update "$out/map_update.json"
 
 step "5/7 stereo tracking, plane constraints off (ORB-SLAM2-like baseline), same frames"
 "$planeloc" run --sequence "$sequence" --init-pose-from "$poses" --no-planes \
@@ -84,6 +85,7 @@ step "7/7 HTML report of both runs against ground truth"
 
 echo
 echo "Outputs in $out: map.pcd, planes.json, planes.ply, traj_{planes,vo}.txt, stats_{planes,vo}.jsonl,"
-echo "ate_{planes,vo}.json, eval_{planes,vo}.json, eval_{planes,vo,both}.png, run_{planes,vo}/"
+echo "ate_{planes,vo}.json, eval_{planes,vo}.json, eval_{planes,vo,both}.png, run_{planes,vo}/,"
+echo "map_update.json (what the run learned about each plane; the report colours the planes by it)"
 echo
 echo "Report (open in a browser, works offline): $out/report.html"
