@@ -9,6 +9,7 @@
 
 #include "planeloc/io/point_cloud.h"
 #include "planeloc/io/point_cloud_fixtures_for_test.h"
+#include "planeloc/io/settings_reader.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/temp_dir.h"
 
@@ -38,6 +39,27 @@ std::string PcdHeader(const std::string& fields, const std::string& size, const 
                       const std::string& height = "1") {
   return "VERSION 0.7\nFIELDS " + fields + "\nSIZE " + size + "\nTYPE " + type + "\nCOUNT " +
          count + "\nWIDTH " + width + "\nHEIGHT " + height + "\nDATA " + data + "\n";
+}
+
+// OpenCV 4.6's YAML parser looped for ever (the settings fuzz target's 15 s timeout, 2026-12-05) on
+// a document marker with text after it followed by more lines; the reader refuses the line first.
+TEST(ReaderFindingsTest, SettingsDocumentMarkerWithTextDoesNotHang) {
+  const TempDir dir;
+  for (const std::string& text :
+       {std::string("---C:0\n----\n1"), std::string("%YAML:1.0\nC: 0\n---C: 0\n----\n1\n")}) {
+    const auto path = Write(dir, "settings.yaml", text);
+    try {
+      SettingsReader reader(path);
+      ADD_FAILURE() << "no InputError for " << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.path(), path.string());
+      EXPECT_GT(e.line(), 0);
+      EXPECT_NE(e.problem().find("---"), std::string::npos);
+    }
+  }
+  // A bare marker, with or without a comment, is still a settings file.
+  const auto fine = Write(dir, "fine.yaml", "%YAML:1.0\n---  # start\nCamera.fps: 10\n");
+  EXPECT_NO_THROW(SettingsReader reader(fine));
 }
 
 // WIDTH and HEIGHT each below the 2^40 limit, their product overflowing 64 bits (signed overflow).

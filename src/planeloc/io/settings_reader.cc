@@ -49,6 +49,26 @@ int NormalizeHeader(std::string& text) {
   return 1;
 }
 
+// OpenCV 4.6's YAML parser never returns on some inputs with a "---" document marker that has
+// text after it on the same line, followed by more lines (fuzz finding: "---C: 0\n----\n1").
+// A settings file has no use for such a line: `---` stands alone (or before a comment). Returns the
+// 1-based line of the first other line starting with "---", 0 if none.
+int LineOfBadDocumentMarker(const std::string& text) {
+  int line = 1;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    if (text.compare(start, 3, "---") == 0) {
+      const std::size_t rest = text.find_first_not_of(" \t\r", start + 3);
+      if (rest < end && text[rest] != '#') return line;
+    }
+    start = end + 1;
+    ++line;
+  }
+  return 0;
+}
+
 // OpenCV 4.6 reports parse errors as "...(LINE): message..." (the line 1-based).
 InputError SyntaxError(const std::filesystem::path& path, const cv::Exception& e, int added_lines) {
   static const std::regex kLine(R"(\((\d+)\): ([^'\n]*))");
@@ -83,6 +103,12 @@ std::string Lower(std::string s) {
 SettingsReader::SettingsReader(const std::filesystem::path& path) : path_(path) {
   std::string text = ReadText(path);
   const std::string original = text;
+  if (const int line = LineOfBadDocumentMarker(text)) {
+    throw InputError(path.string(), line,
+                     "not a valid settings file: a line starting with `---` that is not a "
+                     "document marker",
+                     "write `---` alone on its line (or remove it); comments start with `#`");
+  }
   const int added_lines = NormalizeHeader(text);
   try {
     storage_.open(text,
