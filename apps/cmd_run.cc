@@ -20,6 +20,14 @@
 #ifdef PLANELOC_HAVE_ROS
 #include "planeloc/ros/bag_sequence.h"
 #endif
+#ifdef PLANELOC_HAVE_LIVE_VIEW
+#include <csignal>
+#include <fstream>
+#include <thread>
+
+#include "planeloc/io/trajectory.h"
+#include "planeloc/view/live_view.h"
+#endif
 
 namespace planeloc::cli {
 namespace {
@@ -49,6 +57,10 @@ struct RunArgs {
   int frames = 0;
   std::string report_dir;
   std::string map_update;
+  bool view = false;         // --view given (with or without an address)
+  std::string view_address;  // "", "PORT", "HOST" or "HOST:PORT"
+  bool view_wait = false;
+  std::string gt;
 };
 
 // --report-dir: created when missing (its parent must exist, as for any output folder).
@@ -87,6 +99,65 @@ std::shared_ptr<const StereoSource> OpenBag(const RunArgs& args) {
 #endif
 }
 
+#ifdef PLANELOC_HAVE_LIVE_VIEW
+volatile std::sig_atomic_t interrupted = 0;
+
+// --view's "HOST:PORT", "PORT", "HOST" or "" (loopback, a free port).
+view::LiveViewOptions ParseViewAddress(const std::string& address) {
+  view::LiveViewOptions options;
+  if (address.empty()) return options;
+  const std::size_t colon = address.rfind(':');
+  std::string host = colon == std::string::npos ? address : address.substr(0, colon);
+  std::string port = colon == std::string::npos ? "" : address.substr(colon + 1);
+  if (colon == std::string::npos && !address.empty() &&
+      address.find_first_not_of("0123456789") == std::string::npos) {
+    host.clear();
+    port = address;
+  }
+  if (!host.empty()) options.host = host;
+  if (!port.empty()) {
+    CheckFlag(port.size() <= 5 && port.find_first_not_of("0123456789") == std::string::npos &&
+                  std::stoi(port) >= 1 && std::stoi(port) <= 65535,
+              "--view", address, "[HOST:]PORT with a port from 1 to 65535, or a HOST alone",
+              "e.g. --view 127.0.0.1:8080, or --view alone for loopback and a free port");
+    options.port = std::stoi(port);
+  }
+  return options;
+}
+
+// --gt for the view: one pose per frame, KITTI (12 numbers a line) or TUM (8), by the first line.
+std::vector<Eigen::Vector3d> ReadViewGt(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  const TrajectoryFormat format =
+      ParseNumberList(line).size() == 8 ? TrajectoryFormat::kTum : TrajectoryFormat::kKitti;
+  const Trajectory gt = ReadTrajectory(path, format);
+  std::vector<Eigen::Vector3d> positions;
+  for (const Rigid3d& pose : gt.world_from_cam) positions.push_back(pose.translation);
+  return positions;
+}
+
+std::shared_ptr<view::LiveView> StartLiveView(const RunArgs& args) {
+  view::LiveViewOptions options = ParseViewAddress(args.view_address);
+  if (const char* three = std::getenv("PLANELOC_THREE_JS_DIR")) options.three_js_dir = three;
+  if (!args.gt.empty()) options.gt_positions = ReadViewGt(args.gt);
+  options.title = "planeloc live \u00b7 " + (args.bag.empty() ? args.sequence : args.bag);
+  std::shared_ptr<view::LiveView> live = view::LiveView::Start(options);
+  spdlog::info("live view: {} (loopback only unless --view names another address)", live->url());
+  return live;
+}
+
+// --view-wait: the page stays until Ctrl-C (or SIGTERM).
+void ServeUntilInterrupted(const view::LiveView& live) {
+  spdlog::info("live view: the run has finished; still serving {} until Ctrl-C", live.url());
+  std::signal(SIGINT, [](int) { interrupted = 1; });
+  std::signal(SIGTERM, [](int) { interrupted = 1; });
+  while (!interrupted) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  spdlog::info("live view: stopped");
+}
+#endif
+
 // The flags' values and combinations, and the outputs' folders, before any work.
 void CheckRunArgs(const RunArgs& args) {
   CheckInput(args.sequence.empty() != args.bag.empty(), "", 0,
@@ -107,6 +178,17 @@ void CheckRunArgs(const RunArgs& args) {
     throw InputError(args.map_update, "--map-update reports on the planes of a plane map",
                      "add --planes planes.json (or drop --map-update)");
   }
+  if (!args.view && (args.view_wait || !args.gt.empty())) {
+    throw InputError("", 0, args.view_wait ? "--view-wait needs --view" : "--gt needs --view",
+                     "add --view (the live view in the browser), or drop the flag");
+  }
+#ifndef PLANELOC_HAVE_LIVE_VIEW
+  if (args.view) {
+    throw InputError("", 0, "this planeloc was built without the live view (cpp-httplib)",
+                     "install libcpp-httplib-dev (./scripts/setup.sh) and reconfigure (cmake -S "
+                     ". -B build)");
+  }
+#endif
   CheckOutputPaths({{"--out", args.out},
                     {"--stats", args.stats},
                     {"--map-update", args.map_update},
@@ -114,7 +196,8 @@ void CheckRunArgs(const RunArgs& args) {
                    {{"--init-pose-from", args.init_pose_from},
                     {"--planes", args.planes},
                     {"--config", args.config},
-                    {"--bag", args.bag}});
+                    {"--bag", args.bag},
+                    {"--gt", args.gt}});
 }
 
 // Opens --bag: call after the checks of CheckRunArgs.
@@ -232,7 +315,15 @@ int Run(const RunArgs& args) {
   CheckRunArgs(args);
   if (!args.report_dir.empty()) PrepareReportDir(args.report_dir);
   KeepFreedMemoryForReuse();
-  const RunOptions options = MakeRunOptions(args);
+  RunOptions options = MakeRunOptions(args);
+#ifdef PLANELOC_HAVE_LIVE_VIEW
+  // Before the run: a taken port fails now (exit 2), not after the work.
+  std::shared_ptr<view::LiveView> live;
+  if (args.view) {
+    live = StartLiveView(args);
+    options.observer = live;
+  }
+#endif
   const RunSummary summary = RunSequence(options);
   LogRunSummary(summary);
   if (options.planes_path) LogPlaneMapSummary(summary, options, args.planes);
@@ -247,6 +338,10 @@ int Run(const RunArgs& args) {
                          summary.skipped, summary.frames, args.out),
              "repair or re-extract the images named above, or track a stretch without them "
              "(--frames)");
+#ifdef PLANELOC_HAVE_LIVE_VIEW
+  if (live && args.view_wait) ServeUntilInterrupted(*live);
+  if (live) live->Stop();
+#endif
   return 0;
 }
 
@@ -320,7 +415,22 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
                   "With --planes: write what the run learned about each plane (unseen, "
                   "confirmed, corrected with offset and normal and their sigma, contradicted; the "
                   "frames it was seen in) as JSON for `planeloc map update` (docs/map-update.md)");
-  return [args] { return Run(*args); };
+  auto* view = cmd->add_option(
+      "--view", args->view_address,
+      "Watch the run live in a browser: serves one page on [HOST:]PORT (default 127.0.0.1 and a "
+      "free port; the address is logged) with the plane map, the trajectory so far, the current "
+      "image with its features and the projected planes, the lock state, fps and stage times "
+      "(docs/live-view.md). A given port that is taken is exit 2");
+  view->expected(0, 1);
+  cmd->add_flag("--view-wait", args->view_wait,
+                "With --view: keep serving the page after the run until Ctrl-C");
+  cmd->add_option("--gt", args->gt,
+                  "With --view: ground-truth poses (KITTI or TUM, one per frame): the live "
+                  "trajectory is coloured by its position error");
+  return [args, view] {
+    args->view = view->count() > 0;
+    return Run(*args);
+  };
 });
 
 }  // namespace

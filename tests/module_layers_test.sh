@@ -22,12 +22,14 @@ declare -A allowed=(
   [pipeline]="prior tracking features optim io geometry util"
   [localizer]="pipeline prior tracking features optim io geometry util"
   [ros]="io geometry util"
+  [view]="pipeline prior tracking features optim io eval geometry util"
 )
 declare -A test_allowed=(
   [map]="sim"
   [pipeline]="sim eval map"
   [localizer]="sim"
   [ros]="sim"
+  [view]="sim map"
 )
 
 failures=0

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "planeloc/eval/ape.h"
+#include "planeloc/eval/html_page_kit.h"
 #include "planeloc/eval/kitti_drift.h"
 #include "planeloc/eval/pose_path.h"
 #include "planeloc/eval/statistics.h"
@@ -35,12 +36,6 @@ std::optional<std::string> ReadIfExists(const fs::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
-}
-
-std::string ReadRequired(const fs::path& path, const std::string& fix) {
-  std::optional<std::string> text = ReadIfExists(path);
-  if (!text) throw InputError(path.string(), "cannot read the file", fix);
-  return *text;
 }
 
 // Four decimals keep the page small (positions in metres to 0.1 mm).
@@ -309,61 +304,6 @@ LoadedRun LoadRun(const fs::path& dir, const std::string& flag) {
   return run;
 }
 
-// In a classic <script>, only "</script" ends the element and "<!--" changes how it is parsed;
-// both can appear in JavaScript only inside strings, regexes or comments, where "<\/" and "<\!"
-// mean the same.
-std::string ScriptSafe(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    out += text[i];
-    if (text[i] != '<') continue;
-    if (text.compare(i + 1, 7, "/script") == 0 || text.compare(i + 1, 7, "/SCRIPT") == 0) {
-      out += '\\';
-    } else if (text.compare(i + 1, 3, "!--") == 0) {
-      out += '\\';
-    }
-  }
-  return out;
-}
-
-// '<' only occurs inside JSON strings, where \u003c is the same character.
-std::string JsonScriptSafe(const std::string& json_text) {
-  std::string out;
-  out.reserve(json_text.size());
-  for (char c : json_text) {
-    if (c == '<') {
-      out += "\\u003c";
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
-std::string HtmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 AxisErrors DecomposeError(const Eigen::Vector3d& error, const Eigen::Vector3d& direction,
@@ -467,27 +407,20 @@ json BuildReportData(const HtmlReportOptions& options) {
 }
 
 std::string RenderHtmlReport(const HtmlReportOptions& options) {
-  const fs::path three = options.three_js_dir / "three.min.js";
-  const std::string three_js = ReadRequired(
-      three,
-      "install Debian's libjs-three (./scripts/setup.sh) or set PLANELOC_THREE_JS_DIR to "
-      "a folder with three.min.js");
-  // Debian's libjs-three (r111) ships OrbitControls as a classic script; without it the page
-  // falls back to its own orbit/zoom handling.
-  const std::string orbit =
-      ReadIfExists(options.three_js_dir / "examples/js/controls/OrbitControls.js").value_or("");
+  const std::string three_js = ThreeJsScripts(options.three_js_dir);
   const json data = BuildReportData(options);
   std::string page;
-  page.reserve(three_js.size() + orbit.size() + (1 << 20));
-  page += kPageHead;
+  page.reserve(three_js.size() + (1 << 20));
+  page += PageKitHead();
   page += "<title>" + HtmlEscape(options.title) + "</title>\n";
-  page += kPageStyle;
+  page += PageKitStyle();
+  page += "</head>\n";
   page += kPageBody;
-  page += "<script>\n" + ScriptSafe(three_js) + "\n</script>\n";
-  if (!orbit.empty()) page += "<script>\n" + ScriptSafe(orbit) + "\n</script>\n";
+  page += three_js;
   page += "<script type=\"application/json\" id=\"report-data\">" + JsonScriptSafe(data.dump()) +
           "</script>\n";
   page += "<script>\n";
+  page += PageKitScript();
   page += kPageScript;
   page += "</script>\n</body>\n</html>\n";
   return page;

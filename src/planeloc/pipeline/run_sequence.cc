@@ -346,7 +346,7 @@ class CalibrationSpeedCheck {
 void TrackFrames(const StereoSource& sequence, std::size_t total,
                  const EffectiveSettings& effective, const std::string& calibration, bool realtime,
                  Tracker& tracker, TrajectoryWriter& writer, std::optional<OutputFile>& stats_out,
-                 std::optional<ProgressBar>& progress, RunSummary& summary) {
+                 std::optional<ProgressBar>& progress, RunObserver* observer, RunSummary& summary) {
   // Real-time replay: frame i arrives at its camera time after the first frame's.
   using Clock = std::chrono::steady_clock;
   const Clock::time_point replay_start = Clock::now();
@@ -440,6 +440,10 @@ void TrackFrames(const StereoSource& sequence, std::size_t total,
     summary.stats.push_back(stats);
     summary.world_from_cam.push_back(result.world_from_cam);
     if (progress) progress->Update(i + 1);
+    if (observer) {
+      observer->OnFrame(stats, result.world_from_cam);
+      if (observer->WantsFrameView()) observer->OnFrameView(tracker.DescribeLastFrame());
+    }
     launch_arrived(i + 1 + kFramesAhead);
   }
 }
@@ -488,8 +492,12 @@ RunSummary RunSequence(const RunOptions& run) {
   const auto start = std::chrono::steady_clock::now();
   const std::string calibration = effective.calibration_from_settings ? run.settings_path->string()
                                                                       : sequence.calibration_name();
+  if (run.observer) {
+    run.observer->OnStart(summary.camera, static_cast<int>(total),
+                          plane_map ? &*plane_map : nullptr);
+  }
   TrackFrames(sequence, total, effective, calibration, run.realtime, tracker, writer, stats_out,
-              progress, summary);
+              progress, run.observer.get(), summary);
   tracker.Finish();
   writer.Close();
   if (stats_out) stats_out->Commit();
@@ -519,6 +527,7 @@ RunSummary RunSequence(const RunOptions& run) {
         summary.map_update_counts["confirmed"], summary.map_update_counts["corrected"],
         summary.map_update_counts["contradicted"]);
   }
+  if (run.observer) run.observer->OnFinish(summary);
   if (run.summary_path) {
     std::ofstream out(*run.summary_path);
     out << summary.ToJson() << '\n';

@@ -16,6 +16,7 @@
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/io/stereo_source.h"
 #include "planeloc/io/trajectory.h"
+#include "planeloc/pipeline/run_observer.h"
 #include "planeloc/pipeline/settings.h"
 #include "planeloc/pipeline/tracker.h"
 
@@ -62,6 +63,8 @@ struct RunOptions {
   int threads = 0;     // 0: keep the settings' value
   int max_frames = 0;  // 0: all
   bool show_progress = true;
+  // Called on the tracking thread at the start, after every frame and at the end (the live view).
+  std::shared_ptr<RunObserver> observer;
 };
 
 struct RunSummary {

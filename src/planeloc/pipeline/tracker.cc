@@ -186,6 +186,27 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   return result;
 }
 
+TrackedFrameView Tracker::DescribeLastFrame() const {
+  TrackedFrameView view;
+  if (left_pyramid_.empty()) return view;
+  view.frame = next_frame_id_ - 1;
+  view.left = left_pyramid_.front();
+  if (planes_) view.disabled_planes = planes_->DisabledIds();
+  // A lost frame is not last_frame_: its keypoints were never matched.
+  if (!last_frame_ || last_frame_->id != view.frame) return view;
+  for (int i = 0; i < last_frame_->size(); ++i) {
+    const int point_id = last_frame_->map_point_ids[i];
+    if (point_id < 0) continue;
+    const auto point = map_.points().find(point_id);
+    if (point == map_.points().end()) continue;
+    view.tracked.push_back(last_frame_->keypoint(i).pt);
+    std::optional<int> plane;
+    if (planes_) plane = planes_->Associate(point->second.point_in_world);
+    view.tracked_plane.push_back(plane.value_or(-1));
+  }
+  return view;
+}
+
 void Tracker::CatchUpWithWorkers(FrameStats& stats, Clock::time_point track_start) {
   const bool ba_overdue = ba_scheduler_ && ba_scheduler_->Overdue(stats.frame);
   ApplyBaResults(stats, /*wait=*/ba_overdue);

@@ -42,6 +42,17 @@ struct TrackResult {
   FrameStats stats;
 };
 
+// What a viewer draws of the last tracked frame (Tracker::DescribeLastFrame).
+struct TrackedFrameView {
+  int frame = -1;  // the frame the image belongs to; -1 before the first frame with images
+  cv::Mat left;    // rectified grey left image (shared with the tracker: do not write to it)
+  // The keypoints matched to a map point (level-0 pixels), and for each the map plane its map
+  // point lies on (fixed association band), -1 for none. Empty unless the frame was tracked.
+  std::vector<cv::Point2f> tracked;
+  std::vector<int> tracked_plane;
+  std::vector<int> disabled_planes;  // ids of the map planes disabled so far
+};
+
 class Tracker {
  public:
   // `world_from_cam_initial`: pose of the first frame; the trajectory is expressed in its frame.
@@ -70,6 +81,9 @@ class Tracker {
   void Finish();
 
   const SparseMap& map() const { return map_; }
+  // The last frame given images, its tracked keypoints and the planes they lie on. Costs a plane
+  // lookup per tracked point: call it for the frames a viewer shows, not for every frame.
+  TrackedFrameView DescribeLastFrame() const;
   // Map-frame corrections applied so far (registration locks).
   const std::vector<LockEvent>& lock_events() const { return lock_events_; }
   // kLocked without a plane map.

@@ -477,6 +477,15 @@ const PlaneHealth& PlaneAssociator::health(int id) const {
   return planes_[it->second].health;
 }
 
+std::vector<int> PlaneAssociator::DisabledIds() const {
+  std::vector<int> ids;
+  for (const FlatPlane& flat : planes_) {
+    if (flat.health.disabled) ids.push_back(flat.plane.id);
+  }
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
 double PlaneAssociator::PlaneSigma(int id) const {
   const auto it = index_by_id_.find(id);
   if (it == index_by_id_.end()) {

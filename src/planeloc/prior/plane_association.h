@@ -196,6 +196,7 @@ class PlaneAssociator {
   double PlaneSigma(int id) const;
   std::size_t size() const { return planes_.size(); }
   int num_disabled() const { return num_disabled_; }  // currently disabled
+  std::vector<int> DisabledIds() const;               // ids of the disabled planes, ascending
 
  private:
   struct FlatPlane {
