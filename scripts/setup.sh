@@ -12,6 +12,8 @@ PACKAGES=(
   # `import planeloc` (python/, issue 36) and its pytest suite.
   pybind11-dev python3-dev python3-pytest
   libjs-three chromium
+  # cpp-httplib: the live view of `planeloc run --view` (issue 36).
+  libcpp-httplib-dev
   # clang and its sanitizer and libFuzzer runtimes: scripts/test.sh --sanitize, scripts/fuzz.sh.
   clang libclang-rt-14-dev
   # Open MPI: `mpirun -n N planeloc map planes --tiles ...` (issue 15; the build finds it and
