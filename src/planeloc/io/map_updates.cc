@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -92,6 +93,12 @@ PlaneUpdateStatus ParseStatus(const EntryReader& reader, const json& value) {
 }
 
 }  // namespace
+
+Eigen::Vector3d TiltedNormal(const Eigen::Vector3d& normal, const Eigen::Vector3d& e1,
+                             const Eigen::Vector2d& tilt) {
+  const Eigen::Vector3d e2 = normal.cross(e1).normalized();
+  return (normal - tilt[0] * e2 + tilt[1] * e1).normalized();
+}
 
 const char* ToString(PlaneUpdateStatus status) {
   switch (status) {

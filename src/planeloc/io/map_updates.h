@@ -50,6 +50,12 @@ struct PlaneUpdate {
   }
 };
 
+// The normal after the small rotations of `tilt` (radians): tilt[0] about e1 (the major axis, in
+// the plane), tilt[1] about e2 = n x e1. A rotation by t about e1 turns n towards -e2, one about
+// e2 towards +e1. The convention of the file's "tilt", shared by the run and `map update`.
+Eigen::Vector3d TiltedNormal(const Eigen::Vector3d& normal, const Eigen::Vector3d& e1,
+                             const Eigen::Vector2d& tilt);
+
 struct MapUpdates {
   std::filesystem::path planes_path;  // planes.json the run used, as given to it
   std::string planes_hash;            // FileHash of that file

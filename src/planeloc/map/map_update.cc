@@ -43,9 +43,7 @@ MapPlane Corrected(const MapPlane& plane, const Vector3& x) {
   MapPlane moved = plane;
   const Vector3& n = plane.plane_in_map.normal;
   const Vector3& e1 = plane.sigma.major_axis;
-  const Vector3 e2 = n.cross(e1).normalized();
-  // A rotation by x[1] about e1 turns n towards -e2, one by x[2] about e2 towards e1.
-  const Vector3 normal = (n - x[1] * e2 + x[2] * e1).normalized();
+  const Vector3 normal = TiltedNormal(n, e1, x.tail<2>());
   const Vector3 centroid = plane.centroid + x[0] * n;
   moved.plane_in_map.normal = normal;
   moved.plane_in_map.d = -normal.dot(centroid);

@@ -221,8 +221,7 @@ PlaneUpdate PlaneEvidence::Summarize(const PlaneRecord& record) const {
   update.tilt = tilt;
   update.tilt_sigma = tilt_sigma;
   const Eigen::Vector3d& normal = record.plane.plane_in_map.normal;
-  const Eigen::Vector3d corrected_normal =
-      (normal - tilt.x() * record.e2 + tilt.y() * record.e1).normalized();
+  const Eigen::Vector3d corrected_normal = TiltedNormal(normal, record.e1, tilt);
   const Eigen::Vector3d corrected_centroid = record.plane.centroid + offset * normal;
   update.normal = corrected_normal;
   update.d = -corrected_normal.dot(corrected_centroid);
