@@ -15,6 +15,8 @@
 #   --no-map-lock    the full mode without issue 30's default-start runs
 #   --no-peers  the full mode without issue 33's same-run comparison with the real ORB-SLAM2
 #               (scripts/bench_peers.sh: builds the peer once, then about 25 minutes)
+#               and issue 36's frame rate with and without the live view (scripts/bench_live_view.py,
+#               about 6 minutes)
 #   --no-mutants  the full mode without issue 37's mutation checks (scripts/mutants.sh
 #               --update-doc: each key mechanism broken in turn in a worktree of its own, the
 #               table in docs/reliability.md; about 60 minutes on 2 cores, most of it builds)
@@ -32,9 +34,10 @@ run_args=()
 build=1
 peers=1
 mutants=1
+live_view=1
 while [ $# -gt 0 ]; do
   case "$1" in
-    --quick) run_args+=(--quick); peers=0; mutants=0; shift ;;
+    --quick) run_args+=(--quick); peers=0; mutants=0; live_view=0; shift ;;
     --no-peers) peers=0; shift ;;
     --no-mutants) mutants=0; shift ;;
     --fresh) run_args+=(--fresh); shift ;;
@@ -52,8 +55,12 @@ if [ "$build" = 1 ]; then
   PLANELOC_BUILD_DIR="$build_dir" "$root/scripts/build.sh"
 fi
 # A comparison from an earlier run never reaches this run's page.
-rm -f "$build_dir/bench/peers.json"
+rm -f "$build_dir/bench/peers.json" "$build_dir/bench/live_view.json"
 python3 "$root/scripts/bench_run.py" --build "$build_dir" --out "$build_dir/bench" "${run_args[@]}"
+if [ "$live_view" = 1 ]; then
+  # Issue 36: fps with and without the live view (about 6 minutes).
+  python3 "$root/scripts/bench_live_view.py" --build "$build_dir" --out "$build_dir/bench"
+fi
 if [ "$peers" = 1 ]; then
   PLANELOC_BUILD_DIR="$build_dir" "$root/scripts/bench_peers.sh" --out "$build_dir/bench"
 fi

@@ -40,6 +40,7 @@ import sys
 
 import bench_report_map_lock
 import bench_report_peers
+import bench_report_live_view
 import bench_report_wrong_maps
 from bench_format import cell, code, mean_or_none, num, ratio, spread, table
 
@@ -96,7 +97,7 @@ def load(results):
     out["gbench"] = load_gbench(results)
     out["results"] = results
     for key, name in (("robustness", "robustness.json"), ("map_lock", "maplock.json"),
-                      ("peers", "peers.json")):
+                      ("peers", "peers.json"), ("live_view", "live_view.json")):
         path = os.path.join(results, name)  # full mode only
         out[key] = None
         if os.path.exists(path):
@@ -486,6 +487,8 @@ def render(data):
         parts.append(bench_report_map_lock.section(data, tag))
     if data.get("peers"):
         parts.append(bench_report_peers.section(data, tag))
+    if data.get("live_view"):
+        parts.append(bench_report_live_view.section(data["live_view"]))
     parts.append(
         "## Processes of the pipeline: time and peak RSS\n\n"
         "Peak RSS: `ru_maxrss` of the process (wait4). Simulator and map steps are cached under "
