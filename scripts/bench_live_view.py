@@ -124,6 +124,12 @@ def main():
     args = parser.parse_args()
     out = args.out or os.path.join(args.build, "bench")
     planeloc = os.path.join(args.build, "bin", "planeloc")
+    # The tree as the binary was built (before the runs).
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
+                            capture_output=True, text=True).stdout.strip()
+    if subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"],
+                      capture_output=True, text=True).stdout.strip():
+        commit += "+"  # the tree had uncommitted changes
     modes = MODES if chromium_binary() else [m for m in MODES if m != "browser"]
     data = os.path.join(out, "data", f"live-{args.preset}-{args.seed}-{args.frames}")
     seq, poses, planes = prepare(planeloc, data, args.preset, args.seed, args.frames)
@@ -134,11 +140,6 @@ def main():
         for m in modes:
             rows[m].append(one_run(planeloc, seq, poses, planes, m, work))
             print(f"round {r + 1}/{args.rounds} {m}: {rows[m][-1]['fps']:.1f} fps", flush=True)
-    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip()
-    if subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"],
-                      capture_output=True, text=True).stdout.strip():
-        commit += "+"  # measured with uncommitted changes
     cpu = "unknown"
     try:
         with open("/proc/cpuinfo") as f:
