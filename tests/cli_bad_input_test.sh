@@ -197,5 +197,18 @@ fi
 expect_error "run --map-update without --planes" "--planes" -- \
   "$planeloc" run --sequence "$work/nope" --no-planes --map-update "$work/u.json" --out "$work/t.txt"
 
+# The live view's flags (issue 36): each alone is refused before any work.
+expect_error "run --view-wait without --view" "--view-wait needs --view" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --view-wait --out "$work/t.txt"
+expect_error "run --gt without --view" "--gt needs --view" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --gt "$work/nope.txt" --out "$work/t.txt"
+if "$planeloc" run --help 2>/dev/null | grep -- '--view-wait' >/dev/null; then
+  expect_error "run --view with a port out of range" "1 to 65535" -- \
+    "$planeloc" run --sequence "$work/nope" --no-planes --view 127.0.0.1:70000 --out "$work/t.txt"
+  expect_error "run --view with a missing --gt file" "nope_gt.txt" -- \
+    "$planeloc" run --sequence "$work/nope" --no-planes --view --gt "$work/nope_gt.txt" \
+    --out "$work/t.txt"
+fi
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
