@@ -25,6 +25,9 @@ class RunObserver {
   // Asked after OnFrame: whether to describe the frame (OnFrameView). Describing costs the
   // tracking thread a plane lookup per tracked point, so an observer asks at its own rate.
   virtual bool WantsFrameView() const = 0;
+  // Asked with it: whether the view should also carry what the run has learned about the
+  // planes so far (TrackedFrameView::plane_updates; a fit per plane, so at a lower rate).
+  virtual bool WantsPlaneUpdates() const = 0;
   virtual void OnFrameView(TrackedFrameView view) = 0;
   // After the last frame, with the run's summary (before the report folder is written).
   virtual void OnFinish(const RunSummary& summary) = 0;

@@ -442,7 +442,9 @@ void TrackFrames(const StereoSource& sequence, std::size_t total,
     if (progress) progress->Update(i + 1);
     if (observer) {
       observer->OnFrame(stats, result.world_from_cam);
-      if (observer->WantsFrameView()) observer->OnFrameView(tracker.DescribeLastFrame());
+      if (observer->WantsFrameView()) {
+        observer->OnFrameView(tracker.DescribeLastFrame(observer->WantsPlaneUpdates()));
+      }
     }
     launch_arrived(i + 1 + kFramesAhead);
   }

@@ -186,12 +186,13 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   return result;
 }
 
-TrackedFrameView Tracker::DescribeLastFrame() const {
+TrackedFrameView Tracker::DescribeLastFrame(bool with_plane_updates) const {
   TrackedFrameView view;
   if (left_pyramid_.empty()) return view;
   view.frame = next_frame_id_ - 1;
   view.left = left_pyramid_.front();
   if (planes_) view.disabled_planes = planes_->DisabledIds();
+  if (with_plane_updates && evidence_) view.plane_updates = evidence_->Summarize();
   // A lost frame is not last_frame_: its keypoints were never matched.
   if (!last_frame_ || last_frame_->id != view.frame) return view;
   for (int i = 0; i < last_frame_->size(); ++i) {

@@ -51,6 +51,9 @@ struct TrackedFrameView {
   std::vector<cv::Point2f> tracked;
   std::vector<int> tracked_plane;
   std::vector<int> disabled_planes;  // ids of the map planes disabled so far
+  // What the run has learned about each plane so far (PlaneEvidence::Summarize), when asked for
+  // and the run records plane evidence (--map-update); empty otherwise.
+  std::vector<PlaneUpdate> plane_updates;
 };
 
 class Tracker {
@@ -83,7 +86,8 @@ class Tracker {
   const SparseMap& map() const { return map_; }
   // The last frame given images, its tracked keypoints and the planes they lie on. Costs a plane
   // lookup per tracked point: call it for the frames a viewer shows, not for every frame.
-  TrackedFrameView DescribeLastFrame() const;
+  // `with_plane_updates`: also summarize the plane evidence (a fit per plane: not every frame).
+  TrackedFrameView DescribeLastFrame(bool with_plane_updates = false) const;
   // Map-frame corrections applied so far (registration locks).
   const std::vector<LockEvent>& lock_events() const { return lock_events_; }
   // kLocked without a plane map.

@@ -12,6 +12,7 @@
 #include <condition_variable>
 #include <deque>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -96,7 +97,10 @@ struct LiveView::Impl {
 
   std::optional<TrackedFrameView> pending_view;  // for the publisher to draw
   Rigid3d pending_pose;
-  std::atomic<std::int64_t> next_view_ns{0};  // steady clock: when the next frame view is wanted
+  std::atomic<std::int64_t> next_view_ns{0};     // steady clock: when the next frame view is wanted
+  std::atomic<std::int64_t> next_updates_ns{0};  // and the next plane updates
+  // Plane id -> what the run learned about it (unseen planes left out).
+  std::map<int, std::string> plane_states;
 
   std::shared_ptr<const std::string> jpeg;  // the current camera image
   long image_number = 0;
@@ -149,6 +153,9 @@ struct LiveView::Impl {
     event["keyframes"] = keyframes;
     event["lost"] = lost;
     event["disabled"] = disabled_planes;
+    json states = json::object();
+    for (const auto& [id, state] : plane_states) states[std::to_string(id)] = state;
+    event["plane_states"] = std::move(states);
     json changes = json::array();
     for (const auto& [frame, lock] : lock_changes) changes.push_back({frame, lock});
     event["lock_changes"] = std::move(changes);
@@ -422,10 +429,28 @@ bool LiveView::WantsFrameView() const {
   return Clock::now().time_since_epoch().count() >= impl_->next_view_ns.load();
 }
 
+bool LiveView::WantsPlaneUpdates() const {
+  return Clock::now().time_since_epoch().count() >= impl_->next_updates_ns.load();
+}
+
 void LiveView::OnFrameView(TrackedFrameView view) {
-  impl_->next_view_ns.store((Clock::now() + impl_->Period()).time_since_epoch().count());
+  const auto now = Clock::now();
+  impl_->next_view_ns.store((now + impl_->Period()).time_since_epoch().count());
+  if (!view.plane_updates.empty()) {
+    // A fit per plane on the tracking thread: once a second is plenty for a map that changes
+    // over minutes.
+    impl_->next_updates_ns.store((now + std::chrono::seconds(1)).time_since_epoch().count());
+  }
   std::lock_guard lock(impl_->mutex);
   impl_->disabled_planes = view.disabled_planes;
+  if (!view.plane_updates.empty()) {
+    impl_->plane_states.clear();
+    for (const PlaneUpdate& update : view.plane_updates) {
+      if (update.status != PlaneUpdateStatus::kUnseen) {
+        impl_->plane_states[update.id] = ToString(update.status);
+      }
+    }
+  }
   impl_->pending_pose = impl_->last_pose;  // the pose the image was tracked at
   impl_->pending_view = std::move(view);
   impl_->dirty = true;

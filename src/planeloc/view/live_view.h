@@ -3,7 +3,8 @@
 //   GET /            the page: three.js, the plane map and the run so far, inlined
 //   GET /events      Server-Sent Events, one JSON object per update (at most max_rate per second):
 //                    the poses added since the client's last event, the lock state, fps and
-//                    per-stage times, disabled planes, the current image's number
+//                    per-stage times, disabled planes, what the run learned about the planes
+//                    (with --map-update, once a second), the current image's number
 //   GET /frame.jpg   the current camera image (view/frame_drawing.h), JPEG
 //   GET /settle?ms=  answers after `ms` (at most 10 s): a page given ?settle=N delays its load
 //                    event by it, so that a headless browser's screenshot shows pushed updates
@@ -58,6 +59,7 @@ class LiveView final : public RunObserver {
   void OnStart(const StereoCamera& camera, int frames, const PlaneMap* plane_map) override;
   void OnFrame(const FrameStats& stats, const Rigid3d& world_from_cam) override;
   bool WantsFrameView() const override;
+  bool WantsPlaneUpdates() const override;
   void OnFrameView(TrackedFrameView view) override;
   void OnFinish(const RunSummary& summary) override;
 

@@ -201,6 +201,28 @@ TEST(LiveViewTest, ErrorColouringUsesTheGroundTruth) {
   EXPECT_TRUE(events[0]["poses"][2][4].is_null());                // no GT for frame 2
 }
 
+TEST(LiveViewTest, PlaneUpdatesAreSentAtTheirOwnRate) {
+  std::shared_ptr<LiveView> live = LiveView::Start(LiveViewOptions{});
+  const PlaneMap map = TestMap();
+  live->OnStart(TestCamera(), 10, &map);
+  live->OnFrame(Stats(0), PoseAt(0));
+  ASSERT_TRUE(live->WantsPlaneUpdates());
+  TrackedFrameView view = FrameView(0);
+  PlaneUpdate corrected;
+  corrected.id = 7;
+  corrected.status = PlaneUpdateStatus::kCorrected;
+  PlaneUpdate unseen;
+  unseen.id = 8;
+  view.plane_updates = {corrected, unseen};
+  live->OnFrameView(view);
+  // A fit per plane on the tracking thread: not asked for again within the second.
+  EXPECT_FALSE(live->WantsPlaneUpdates());
+  const std::vector<json> events = ReadEvents(live->port(), 1);
+  ASSERT_EQ(events.size(), 1u);
+  // Unseen planes are left out.
+  EXPECT_EQ(events[0]["plane_states"], json::parse(R"({"7": "corrected"})"));
+}
+
 TEST(LiveViewTest, ATakenPortIsAnInputErrorNamingIt) {
   std::shared_ptr<LiveView> first = LiveView::Start(LiveViewOptions{});
   LiveViewOptions options;
