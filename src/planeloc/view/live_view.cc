@@ -93,7 +93,6 @@ struct LiveView::Impl {
   std::vector<int> disabled_planes;
   std::vector<std::pair<int, std::string>> lock_changes;  // frame, new lock state
   std::deque<Clock::time_point> frame_times;              // of the last second
-  Clock::time_point first_frame_time;
 
   std::optional<TrackedFrameView> pending_view;  // for the publisher to draw
   Rigid3d pending_pose;
@@ -405,7 +404,6 @@ void LiveView::OnFrame(const FrameStats& stats, const Rigid3d& world_from_cam) {
   // Without a map's up: the first camera's -y (image rows point down).
   if (s.up.isZero()) s.up = -(world_from_cam.rotation * Eigen::Vector3d::UnitY());
   const bool first = s.poses.empty();
-  if (first) s.first_frame_time = now;
   if (s.poses.empty() || s.last_stats.map_lock != stats.map_lock) {
     if (!stats.map_lock.empty()) s.lock_changes.emplace_back(stats.frame, stats.map_lock);
   }
