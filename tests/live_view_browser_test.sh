@@ -97,6 +97,8 @@ check "the 3-D view has WebGL (data-view3d=1)" grep -q 'data-view3d="1"' "$dom"
 want_planes=$("$python" -c "import json, sys; print(sum(len(p.get('polygon', [])) >= 3 for p in json.load(open(sys.argv[1]))['planes']))" "$tmp/planes.json")
 check "the 3-D scene holds the $want_planes planes (data-scene-planes=$(value scene-planes))" \
   test "$(value scene-planes)" -eq "$want_planes" -a "$want_planes" -gt 0
+check "the page closed its stream and drew what it held before the dump (data-settled)" \
+  grep -q 'data-settled="1"' "$dom"
 check "the scene's track holds every pose received (data-scene-poses=$(value scene-poses), data-poses=$(value poses))" \
   test "$(value scene-poses)" -eq "$(value poses)" -a "$(value poses)" -gt 0
 check "events were pushed while the page was open (data-events=$(value events) > 1)" \
