@@ -17,7 +17,10 @@
 //  4. Significance: a registered DoF whose proposed change is within `min_sigmas` of the
 //     registration's own standard deviation is held too: the registration cannot tell the
 //     current estimate from its own there, and the window BA's plane residuals (which start with
-//     the lock) refine it without a jump. Steps 1-2 are then redone with it held.
+//     the lock) refine it without a jump. The changed DoF then take the registration's estimate
+//     conditioned on the held ones staying put (not its marginal: correlated DoF, such as height
+//     and pitch seen through structure behind the camera, move together or not at all), and the
+//     test is repeated until no further DoF is held.
 // The correction is applied as a rotation about the current camera plus a shift of it, so a
 // rotation never moves the camera along an unobserved direction.
 #pragma once

@@ -136,6 +136,39 @@ TEST(LockFusionTest, CoupledDofTakeTheRegistrationsMarginal) {
   EXPECT_NEAR(fused.applied(kPitch), 0.005, 1e-5);
 }
 
+TEST(LockFusionTest, AHeldDofHoldsWhatMovesWithIt) {
+  // Structure 30 m behind the camera sees height and pitch only together: h = vertical + 30 pitch,
+  // sigma 1 cm, plus a weak direct view of each (vertical 0.1 m, pitch 0.002 rad). Marginal sigmas
+  // 0.0520 m and 0.00172 rad; the conditional sigma of vertical given pitch is 0.00995 m.
+  RegistrationResult result;
+  result.constrained.fill(true);
+  result.information_at_camera = Matrix6d::Identity() * 1e6;
+  result.information_at_camera(kVertical, kVertical) = 1e4 + 1e2;
+  result.information_at_camera(kVertical, kPitch) = 3e5;
+  result.information_at_camera(kPitch, kVertical) = 3e5;
+  result.information_at_camera(kPitch, kPitch) = 9e6 + 1 / (0.002 * 0.002);
+  Matrix6d current = Matrix6d::Identity() * 100.0;  // the start prior: no knowledge
+  // Vertical -0.085 m (1.64 marginal sigmas: significant on its own) with pitch 0.0025 rad (1.46:
+  // held): the structure's height barely changes (-0.085 + 30 * 0.0025 = -0.01 m), so nothing
+  // moves. The marginal alone moved the camera down 8.5 cm and the structure with it.
+  result.correction_at_camera(kVertical) = -0.085;
+  result.correction_at_camera(kPitch) = 0.0025;
+  FusedCorrection fused = FuseRegistration(result, current, 3.0, 1.5);
+  ASSERT_TRUE(fused.accepted);
+  EXPECT_FALSE(fused.changed_dofs[kPitch]);
+  EXPECT_FALSE(fused.changed_dofs[kVertical]);
+  EXPECT_EQ(fused.applied(kVertical), 0.0);
+  EXPECT_NEAR(fused.registered(kVertical), -0.085, 1e-12);  // the stats keep the marginal
+  // Vertical -0.12 m with the same pitch: given pitch 0, the height change the structure asks
+  // for is -0.12 + 0.0743 = -0.0457 m (4.6 conditional sigmas), applied almost whole.
+  result.correction_at_camera(kVertical) = -0.12;
+  fused = FuseRegistration(result, current, 3.0, 1.5);
+  ASSERT_TRUE(fused.accepted);
+  EXPECT_FALSE(fused.changed_dofs[kPitch]);
+  EXPECT_TRUE(fused.changed_dofs[kVertical]);
+  EXPECT_NEAR(fused.applied(kVertical), -0.0457, 1e-3);
+}
+
 TEST(LockFusionTest, HeadingUncertaintyAtThePivotIsLateralAtTheCamera) {
   // 1 deg of heading 40 m behind the camera: 40 * 1 deg = 0.698 m of lateral sigma, nothing
   // along-track or vertical.
