@@ -73,17 +73,15 @@ TileIndex TileSequence(const TileArgs& args) {
     tiling.axes = AxesFromSensor(poses.world_from_cam.front() * cam_from_velo);
   }
   TiledMapWriter writer(args.build, tiling, args.out, args.sequence);
-  std::size_t most_open = 0, missing_scans = 0;
-  ForEachScan(
-      args.build, sequence, poses,
-      [&](const std::vector<Eigen::Vector3d>& points, const Rigid3d& world_from_velo) {
-        writer.AddScan(points, world_from_velo);
-        most_open = std::max(most_open, writer.open_tiles());
-      },
-      &missing_scans);
+  std::size_t most_open = 0;
+  const MapBuildCounts visited =
+      ForEachScan(args.build, sequence, poses,
+                  [&](const std::vector<Eigen::Vector3d>& points, const Rigid3d& world_from_velo) {
+                    writer.AddScan(points, world_from_velo);
+                    most_open = std::max(most_open, writer.open_tiles());
+                  });
   spdlog::info("map tile: at most {} tiles open at once while streaming the scans", most_open);
-  const std::size_t frames = (sequence.size() + args.build.every - 1) / args.build.every;
-  return writer.Finish(frames, missing_scans);
+  return writer.Finish(visited.frames, visited.missing_scans);
 }
 
 }  // namespace

@@ -94,34 +94,35 @@ Rigid3d CheckScanSequence(const KittiSequence& sequence, const Trajectory& poses
   return sequence.RequireCamFromVelo();
 }
 
-std::size_t ForEachScan(
+MapBuildCounts ForEachScan(
     const MapBuildOptions& options, const KittiSequence& sequence, const Trajectory& poses,
-    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink,
-    std::size_t* missing_scans) {
+    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink) {
   options.Check();
   const std::string folder = sequence.folder().string();
   const Rigid3d cam_from_velo = CheckScanSequence(sequence, poses);
-  std::size_t missing = 0, scans = 0;
-  const std::size_t total = (sequence.size() + options.every - 1) / options.every;
-  ProgressBar progress("map build", total, "scans");
+  MapBuildCounts counts;
+  counts.frames = (sequence.size() + options.every - 1) / options.every;
+  ProgressBar progress("map build", counts.frames, "scans");
   if (!options.show_progress) progress.Finish();
   for (std::size_t i = 0, done = 0; i < sequence.size(); i += options.every, ++done) {
     const auto path = sequence.velodyne_path(i);
     if (!path || !std::filesystem::exists(*path)) {
-      ++missing;
+      ++counts.missing_scans;
       continue;
     }
     const VelodyneScan scan = ReadVelodyneScan(*path);
     sink(scan.points, poses.world_from_cam[i] * cam_from_velo);
-    ++scans;
+    ++counts.scans;
     if (options.show_progress) progress.Update(done + 1);
   }
   progress.Finish();
-  if (missing > 0) spdlog::warn("map build: {} of {} frames have no Velodyne scan", missing, total);
-  if (missing_scans) *missing_scans = missing;
-  CheckInput(scans > 0, folder, 0, "no Velodyne scan found in the sequence",
+  if (counts.missing_scans > 0) {
+    spdlog::warn("map build: {} of {} frames have no Velodyne scan", counts.missing_scans,
+                 counts.frames);
+  }
+  CheckInput(counts.scans > 0, folder, 0, "no Velodyne scan found in the sequence",
              "check the sequence's velodyne/ (or velodyne_points/data/) folder");
-  return scans;
+  return counts;
 }
 
 nlohmann::json MapBuildCounts::ToJson() const {
@@ -148,15 +149,12 @@ std::optional<nlohmann::json> MapBuildCountsFromComments(const std::vector<std::
 PointCloud BuildMap(const MapBuildOptions& options, const KittiSequence& sequence,
                     const Trajectory& poses) {
   MapAccumulator accumulator(options);
-  MapBuildCounts counts;
-  ForEachScan(
-      options, sequence, poses,
-      [&](const std::vector<Eigen::Vector3d>& points, const Rigid3d& world_from_velo) {
-        accumulator.AddScan(points, world_from_velo);
-      },
-      &counts.missing_scans);
+  MapBuildCounts counts =
+      ForEachScan(options, sequence, poses,
+                  [&](const std::vector<Eigen::Vector3d>& points, const Rigid3d& world_from_velo) {
+                    accumulator.AddScan(points, world_from_velo);
+                  });
   PointCloud map = accumulator.Finish();
-  counts.frames = (sequence.size() + options.every - 1) / options.every;
   counts.scans = accumulator.scans();
   counts.empty_scans = accumulator.empty_scans();
   counts.scan_points = accumulator.scan_points();

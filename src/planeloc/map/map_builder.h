@@ -99,14 +99,14 @@ std::vector<Eigen::Vector3d> VoxelDownsample(const std::vector<Eigen::Vector3d>&
 Rigid3d CheckScanSequence(const KittiSequence& sequence, const Trajectory& poses);
 
 // Reads every options.every-th scan of `sequence` and hands it (Velodyne frame) to `sink` with its
-// world_from_velo (poses: world_from_cam per frame). Returns the number of scans; throws InputError
+// world_from_velo (poses: world_from_cam per frame). Throws InputError
 // if the counts differ, the sequence has no LiDAR calibration or no scan (frames without a scan
 // file are skipped with a warning). Shared by BuildMap and the tiled build (map_tiles.h).
-// `missing_scans`, if given, receives the count of frames without a scan file.
-std::size_t ForEachScan(
+// Returns what it visited: the counts' frames, missing_scans and scans (the others stay 0; the
+// sink's accumulator knows them).
+MapBuildCounts ForEachScan(
     const MapBuildOptions& options, const KittiSequence& sequence, const Trajectory& poses,
-    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink,
-    std::size_t* missing_scans = nullptr);
+    const std::function<void(const std::vector<Eigen::Vector3d>&, const Rigid3d&)>& sink);
 
 // Builds the map of `sequence` with `poses` (world_from_cam of the sequence's left camera, one per
 // frame). Throws InputError if the counts differ, the sequence has no LiDAR calibration or no
