@@ -22,34 +22,11 @@ cleanup() {
 trap cleanup EXIT
 out="${PLANELOC_VIEW_TEST_OUT:-$tmp/out}"
 mkdir -p "$out"
-fail=0
-check() {  # check DESCRIPTION COMMAND...
-  local what="$1"; shift
-  if "$@"; then echo "ok   $what"; else echo "FAIL $what"; fail=1; fi
-}
-missing() {  # missing WHAT: skip, or fail in CI
-  if [ "${PLANELOC_REQUIRE_COMPONENTS:-0}" = 1 ]; then
-    echo "FAIL $1 is not installed and PLANELOC_REQUIRE_COMPONENTS=1 (fix: ./scripts/setup.sh)"
-    exit 1
-  fi
-  echo "SKIP $1 is not installed (./scripts/setup.sh installs it); the live view is not checked in a browser"
-  exit 77
-}
+skip_what="the live view is not checked in a browser"
+source "$(dirname "${BASH_SOURCE[0]}")/browser_test_lib.sh"
 if ! "$planeloc" run --help 2>/dev/null | grep -- '--view-wait' >/dev/null; then missing "the live view (libcpp-httplib-dev)"; fi
-chromium="$(command -v chromium || command -v chromium-browser || true)"
-[ -n "$chromium" ] || missing chromium
-python=""
-for candidate in ${PLANELOC_PYTHON:-} python3 /usr/bin/python3; do
-  if "$candidate" -c "import PIL" 2>/dev/null; then python="$candidate"; break; fi
-done
-[ -n "$python" ] || missing "python3-pil"
+require_browser
 
-run_step() {  # run_step NAME COMMAND...
-  local name="$1"; shift
-  if ! "$@" >"$tmp/$name.log" 2>&1; then
-    echo "FAIL $name"; tail -20 "$tmp/$name.log"; exit 1
-  fi
-}
 # 400 frames at 10 Hz: a 40 s run; the three browser loads took 8, 11 and 12 s on 2 cores.
 run_step sim "$planeloc" sim --out "$tmp/sim" --preset tiny --seed 1 --frames 400 --force
 seq="$tmp/sim/sequences/00"

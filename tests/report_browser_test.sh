@@ -16,35 +16,11 @@ tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 out="${PLANELOC_REPORT_TEST_OUT:-$tmp/out}"
 mkdir -p "$out"
-fail=0
-check() {  # check DESCRIPTION COMMAND...
-  local what="$1"; shift
-  if "$@"; then echo "ok   $what"; else echo "FAIL $what"; fail=1; fi
-}
-missing() {  # missing WHAT: skip, or fail in CI
-  if [ "${PLANELOC_REQUIRE_COMPONENTS:-0}" = 1 ]; then
-    echo "FAIL $1 is not installed and PLANELOC_REQUIRE_COMPONENTS=1 (fix: ./scripts/setup.sh)"
-    exit 1
-  fi
-  echo "SKIP $1 is not installed (./scripts/setup.sh installs it); the report is not checked in a browser"
-  exit 77
-}
-chromium="$(command -v chromium || command -v chromium-browser || true)"
-[ -n "$chromium" ] || missing chromium
-# The first python that imports PIL: a pyenv `python3` on PATH often lacks Debian's python3-pil.
-python=""
-for candidate in ${PLANELOC_PYTHON:-} python3 /usr/bin/python3; do
-  if "$candidate" -c "import PIL" 2>/dev/null; then python="$candidate"; break; fi
-done
-[ -n "$python" ] || missing "python3-pil"
+skip_what="the report is not checked in a browser"
+source "$(dirname "${BASH_SOURCE[0]}")/browser_test_lib.sh"
+require_browser
 
 # The pipeline, on the tiny preset (60 frames).
-run_step() {  # run_step NAME COMMAND...
-  local name="$1"; shift
-  if ! "$@" >"$tmp/$name.log" 2>&1; then
-    echo "FAIL $name"; tail -20 "$tmp/$name.log"; exit 1
-  fi
-}
 run_step sim "$planeloc" sim --out "$tmp/sim" --preset tiny --seed 1 --force
 seq="$tmp/sim/sequences/00"
 poses="$tmp/sim/poses/00.txt"
