@@ -18,7 +18,7 @@ Writes JSON (--json) and prints a Markdown table. Every draw is seeded: reruns a
 
 Usage: scripts/bench_map_lock.py [--planeloc build/bin/planeloc] [--work /tmp/planeloc-maplock]
          [--preset small] [--seeds 3 11] [--draws 20] [--sigma "2 0.5 5"] [--exact-start]
-         [--json out.json]
+         [--json out.json] [--config settings.yaml]
 """
 import argparse
 import hashlib
@@ -202,6 +202,8 @@ def run_plane_mode(args, seq, planes, init_pose, sigma, out, log, extra=()):
     cmd = [args.planeloc, "run", "--sequence", seq, "--init-pose", init_pose, "--planes", planes,
            "--init-sigma", sigma, "--out", out + ".txt", "--stats", out + ".jsonl",
            "--deterministic"] + list(extra)
+    if args.config:
+        cmd += ["--config", args.config]
     start = time.time()
     rc = run(cmd, log)
     return rc, time.time() - start
@@ -219,6 +221,8 @@ def main():
     ap.add_argument("--exact-start", action="store_true",
                     help="also run the prior from the exact start (issue 30)")
     ap.add_argument("--json", default="")
+    ap.add_argument("--config", default="",
+                    help="settings file for every plane-mode run (an option under test)")
     args = ap.parse_args()
     s_xy, s_z, s_yaw = (float(x) for x in args.sigma.split())
 
