@@ -350,7 +350,8 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
   CLI::App* cmd = app.add_subcommand(
       "run", "Track a stereo sequence (visual odometry, or localization in a plane map)");
   cmd->add_option("--sequence", args->sequence,
-                  "KITTI odometry sequence folder or raw drive folder (or --bag)");
+                  "KITTI odometry sequence folder, raw drive folder, or ASL/EuRoC folder (mav0 "
+                  "or the folder holding it; raw pairs rectified on load) (or --bag)");
   cmd->add_option("--bag", args->bag,
                   "ROS 1 bag of rectified stereo images (sensor_msgs/Image mono8/rgb8/bgr8 or "
                   "CompressedImage) and their camera info (needs a build with ROS)");

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "planeloc/io/grey_image.h"
 #include "planeloc/io/kitti_calib.h"
 #include "planeloc/io/oxts.h"
 #include "planeloc/io/trajectory.h"
@@ -69,24 +70,6 @@ cv::Size ReadImageSize(const fs::path& path) {
   CheckInput(!image.empty(), path.string(), 0, "image does not decode",
              "the file is corrupt or not an image; re-extract it from the KITTI archive");
   return image.size();
-}
-
-cv::Mat LoadGreyImage(const fs::path& path) {
-  CheckInput(IsFile(path), path.string(), 0, "image file missing",
-             "re-extract the sequence, or skip frames for which HasFrame() is false");
-  // IMREAD_GRAYSCALE also converts the colour cameras (image_2/3, image_02/03) to grey.
-  cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-  CheckInput(!image.empty(), path.string(), 0, "image does not decode",
-             "the file is corrupt or not an image; re-extract it from the KITTI archive");
-  // A blank image (lens covered, sensor blackout, a zero-filled file) has no feature: tracked as
-  // is it gives a pose from nothing (an all-black right camera gave identity poses).
-  double lowest = 0.0, highest = 0.0;
-  cv::minMaxLoc(image, &lowest, &highest);
-  CheckInput(lowest < highest, path.string(), 0,
-             fmt::format("the image is blank (every pixel is {})", lowest),
-             "the camera saw nothing (covered lens, blackout, zero-filled file); restore the image "
-             "or drop the frame");
-  return image;
 }
 
 // Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's days_from_civil).

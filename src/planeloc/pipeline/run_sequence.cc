@@ -17,6 +17,7 @@
 #include <sstream>
 #include <thread>
 
+#include "planeloc/io/asl_sequence.h"
 #include "planeloc/io/initial_pose.h"
 #include "planeloc/io/map_updates.h"
 #include "planeloc/io/plane_map.h"
@@ -459,12 +460,19 @@ RunSummary RunSequence(const RunOptions& run) {
   if (plane_map) summary.planes = static_cast<int>(plane_map->planes.size());
   std::optional<SettingsFile> settings = ReadSettings(run);
   std::shared_ptr<const StereoSource> source = run.source;
+  if (!source && AslSequence::IsAslFolder(run.sequence)) {
+    auto asl = std::make_shared<AslSequence>(AslSequence::Open(run.sequence));
+    spdlog::info("{}: ASL/EuRoC layout, {} stereo frames, raw pairs rectified on load", asl->name(),
+                 asl->size());
+    source = std::move(asl);
+  }
   if (!source)
     source = std::make_shared<KittiSequence>(KittiSequence::Open(run.sequence, run.cameras));
   const StereoSource& sequence = *source;
   CheckInput(sequence.size() > 0, sequence.name(), 0, "the sequence has no frames",
              run.source ? "pass a source with stereo frames"
-                        : "point --sequence at a KITTI odometry sequence or raw drive folder");
+                        : "point --sequence at a KITTI odometry sequence, a raw drive or an "
+                          "ASL/EuRoC mav0 folder");
   const EffectiveSettings effective = Effective(run, std::move(settings), sequence.camera());
   summary.options = effective.options;
   summary.camera = effective.camera;
