@@ -199,7 +199,8 @@ void WritePlot(const EvalArgs& args, const std::vector<PlotEstimate>& estimates,
 
 EvalOptions ToOptions(const EvalArgs& args) {
   EvalOptions options;
-  options.format = ParseTrajectoryFormat(args.format);
+  options.euroc_reference = args.format == "euroc";
+  options.format = ParseTrajectoryFormat(options.euroc_reference ? "tum" : args.format);
   if (!args.gt_times.empty()) options.gt_times = args.gt_times;
   if (!args.est_times.empty()) options.est_times = args.est_times;
   options.max_time_difference_s = args.max_diff;
@@ -264,8 +265,11 @@ const CommandRegistrar kRegistrar("eval", [](CLI::App& app) -> CommandRunner {
       "eval", "Trajectory error against ground truth: APE, RPE, KITTI drift (identical to evo)");
   cmd->add_option("--gt", args->gt, "Ground-truth trajectory")->required();
   cmd->add_option("--est", args->est, "Estimated trajectory")->required();
-  cmd->add_option("--format", args->format, "kitti | tum")
-      ->check(CLI::IsMember({"kitti", "tum"}))
+  cmd->add_option("--format", args->format,
+                  "kitti | tum | euroc (the GT an ASL/EuRoC csv, e.g. "
+                  "mav0/state_groundtruth_estimate0/data.csv; the estimate TUM; paired by "
+                  "timestamp within --max-diff, as evo_ape euroc)")
+      ->check(CLI::IsMember({"kitti", "tum", "euroc"}))
       ->capture_default_str();
   cmd->add_option("--gt-times", args->gt_times, "KITTI: times.txt of the GT (one line per pose)");
   cmd->add_option("--est-times", args->est_times,

@@ -2,7 +2,8 @@
 # `planeloc run --sequence` on the ASL / EuRoC layout (issue 35 item 1): the simulator's tiny
 # sequence written in that layout by scripts/kitti_to_asl.py (an ideal rig, rectified on load by
 # the identity) gives the trajectory of the KITTI-layout original, the layout is said in one
-# line, and a broken calibration is exit 2 naming the file.
+# line, `eval --format euroc` reads the ground truth's csv against the TUM output with the APE of
+# the KITTI files, and a broken calibration is exit 2 naming the file.
 # Usage: tests/asl_run_test.sh PLANELOC_BINARY [SOURCE_DIR]
 set -uo pipefail
 planeloc="$1"
@@ -22,11 +23,15 @@ done
 "$planeloc" sim --out "$tmp/sim" --preset tiny --seed 1 --frames 30 --force >"$tmp/sim.log" 2>&1 || {
   echo "FAIL sim"; cat "$tmp/sim.log"; exit 1; }
 seq="$tmp/sim/sequences/00"
-"$python" "$src/scripts/kitti_to_asl.py" "$seq" "$tmp/asl" >"$tmp/convert.log" 2>&1 || {
+"$python" "$src/scripts/kitti_to_asl.py" "$seq" "$tmp/asl" --poses "$tmp/sim/poses/00.txt" \
+  >"$tmp/convert.log" 2>&1 || {
   echo "FAIL kitti_to_asl.py"; cat "$tmp/convert.log"; exit 1; }
 "$planeloc" run --sequence "$tmp/asl" --no-planes --deterministic --out "$tmp/asl.txt" \
   >"$tmp/asl.log" 2>&1
 check "run on the ASL folder exits 0" test $? -eq 0
+"$planeloc" run --sequence "$tmp/asl" --no-planes --deterministic --format tum \
+  --out "$tmp/asl.tum" >"$tmp/asl_tum.log" 2>&1
+check "run --format tum on the ASL folder exits 0" test $? -eq 0
 "$planeloc" run --sequence "$seq" --no-planes --deterministic --out "$tmp/kitti.txt" \
   >"$tmp/kitti.log" 2>&1
 check "run on the KITTI original exits 0" test $? -eq 0
@@ -40,6 +45,21 @@ check "one pose per frame (30)" test "$(grep -c . "$tmp/asl.txt")" -eq 30
 rmse=$("$python" -c "import json,sys; print(json.load(open(sys.argv[1]))['ape']['rmse'])" "$tmp/eval.json" 2>/dev/null || echo 1)
 check "the same trajectory as the KITTI original (RMSE $rmse m < 1e-4)" \
   "$python" -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1e-4 else 1)" "$rmse"
+
+# eval --format euroc: the ASL ground truth's csv against the TUM output (the dataset's clock),
+# the same APE as the KITTI files of the same run, to the trajectories' 1.2 um.
+ape() { "$python" -c "import json,sys; print(json.load(open(sys.argv[1]))['ape']['rmse'])" "$1"; }
+"$planeloc" eval --format euroc --gt "$tmp/asl/mav0/state_groundtruth_estimate0/data.csv" \
+  --est "$tmp/asl.tum" --align se3 --json "$tmp/euroc.json" >"$tmp/euroc.log" 2>&1
+check "eval --format euroc exits 0" test $? -eq 0
+"$planeloc" eval --gt "$tmp/sim/poses/00.txt" --est "$tmp/kitti.txt" --align se3 \
+  --json "$tmp/kitti_eval.json" >/dev/null 2>&1
+euroc_ape=$(ape "$tmp/euroc.json" 2>/dev/null || echo -1)
+kitti_ape=$(ape "$tmp/kitti_eval.json" 2>/dev/null || echo 1)
+check "eval --format euroc pairs all 30 frames" grep -q '"associated_poses": 30' "$tmp/euroc.json"
+check "the same APE as KITTI eval of the original ($euroc_ape vs $kitti_ape m)" \
+  "$python" -c "import sys; sys.exit(0 if abs(float(sys.argv[1]) - float(sys.argv[2])) < 1e-4 else 1)" \
+  "$euroc_ape" "$kitti_ape"
 
 # A calibration that is not rigid: exit 2, the file named.
 sed -i 's/data: \[1.0, 0.0, 0.0,/data: [2.0, 0.0, 0.0,/' "$tmp/asl/mav0/cam1/sensor.yaml"

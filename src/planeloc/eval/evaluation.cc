@@ -79,6 +79,9 @@ void EvalOptions::Check() const {
   if (format == TrajectoryFormat::kTum && (gt_times || est_times)) {
     throw OptionsError("EvalOptions.gt_times/est_times apply to KITTI files only (TUM has times)");
   }
+  if (euroc_reference && format != TrajectoryFormat::kTum) {
+    throw OptionsError("EvalOptions.euroc_reference needs format TUM (the estimate's format)");
+  }
   if (est_times && !gt_times) {
     throw OptionsError("EvalOptions.est_times needs gt_times too (pairing by timestamp)");
   }
@@ -108,7 +111,8 @@ EvalInputs LoadEvalInputs(const std::filesystem::path& gt_path,
     }
     return inputs;
   }
-  const Trajectory gt = ReadTumTrajectory(gt_path);
+  const Trajectory gt =
+      options.euroc_reference ? ReadEurocTrajectory(gt_path) : ReadTumTrajectory(gt_path);
   const Trajectory est = ReadTumTrajectory(est_path);
   inputs.reference = ToPoseMatrices(gt);
   inputs.estimate = ToPoseMatrices(est);

@@ -22,6 +22,9 @@ struct EvalOptions {
   std::optional<std::filesystem::path> gt_times;
   std::optional<std::filesystem::path> est_times;
   double max_time_difference_s = 0.01;  // TUM association tolerance, seconds (evo's default)
+  // TUM only: the GT is a EuRoC csv (io/trajectory.h ReadEurocTrajectory; `eval --format euroc`,
+  // as `evo_ape euroc GT.csv EST.tum`), the estimate a TUM file, paired by timestamp.
+  bool euroc_reference = false;
   AlignmentType alignment = AlignmentType::kNone;
   ProjectionPlane plane = ProjectionPlane::kNone;  // applied after the 3-D alignment
   bool plane_before_align = false;                 // APE only: evo library order instead

@@ -2,9 +2,11 @@
 // table and the plot CSV. Runs nothing external (the plot script is exercised by shell tests).
 #include "planeloc/eval/evaluation.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -112,6 +114,52 @@ TEST_F(EvaluationTest, TumIsPairedByTimestamp) {
   WriteTumTrajectory(dir_.path() / "late.tum", sparse);
   EXPECT_THROW(LoadEvalInputs(dir_.path() / "gt.tum", dir_.path() / "late.tum", options),
                InputError);
+}
+
+TEST_F(EvaluationTest, EurocGroundTruthPairsWithATumEstimate) {
+  // The same GT as a EuRoC csv (ns, p, q with w first, velocities and biases after) and as a TUM
+  // file: the same pairs and the same APE against a TUM estimate 3 ms late and 1.1x scaled.
+  const Trajectory gt = LoopTrajectory(1.0, Eigen::Vector3d::Zero());
+  Trajectory est = LoopTrajectory(1.1, Eigen::Vector3d(1, 2, 3));
+  for (double& t : est.timestamps) t += 0.003;
+  std::string csv =
+      "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], "
+      "q_RS_z [], v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], "
+      "b_w_RS_S_y [rad s^-1], b_w_RS_S_z [rad s^-1], b_a_RS_S_x [m s^-2], b_a_RS_S_y [m s^-2], "
+      "b_a_RS_S_z [m s^-2]\r\n";
+  for (std::size_t i = 0; i < gt.size(); ++i) {
+    const Eigen::Vector3d& p = gt.world_from_cam[i].translation;
+    const Eigen::Quaterniond& q = gt.world_from_cam[i].rotation;
+    csv += fmt::format("{},{},{},{},{},{},{},{},0,0,0,0,0,0,0,0,0\r\n",
+                       std::llround(gt.timestamps[i] * 1e9), p.x(), p.y(), p.z(), q.w(), q.x(),
+                       q.y(), q.z());
+  }
+  std::ofstream(dir_.path() / "data.csv") << csv;
+  WriteTumTrajectory(dir_.path() / "gt.tum", gt);
+  WriteTumTrajectory(dir_.path() / "est.tum", est);
+  EvalOptions tum;
+  tum.format = TrajectoryFormat::kTum;
+  tum.alignment = AlignmentType::kSim3;
+  EvalOptions euroc = tum;
+  euroc.euroc_reference = true;
+  const EvalInputs from_tum = LoadEvalInputs(dir_.path() / "gt.tum", dir_.path() / "est.tum", tum);
+  const EvalInputs from_csv =
+      LoadEvalInputs(dir_.path() / "data.csv", dir_.path() / "est.tum", euroc);
+  ASSERT_EQ(from_csv.reference.size(), 60u);
+  ASSERT_EQ(from_tum.reference.size(), 60u);
+  const double rmse_tum = Evaluate(from_tum, tum).ape.stats.rmse;
+  const double rmse_csv = Evaluate(from_csv, euroc).ape.stats.rmse;
+  EXPECT_LT(rmse_csv, 1e-6);  // Sim(3) removes the scale and the offset
+  EXPECT_NEAR(rmse_csv, rmse_tum, 1e-9);
+  EXPECT_EQ(ReportToJson(from_csv, euroc, Evaluate(from_csv, euroc))["inputs"]["format"], "euroc");
+  // A line with 7 numbers is named with its line.
+  std::ofstream(dir_.path() / "short.csv") << "#t\n1,0,0,0,1,0,0,0\n2,0,0,0,1,0,0\n";
+  try {
+    LoadEvalInputs(dir_.path() / "short.csv", dir_.path() / "est.tum", euroc);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("short.csv:3"), std::string::npos) << error.what();
+  }
 }
 
 TEST_F(EvaluationTest, PlotCsvHasOneRowPerPose) {

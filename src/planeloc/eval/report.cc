@@ -54,7 +54,9 @@ nlohmann::json ReportToJson(const EvalInputs& inputs, const EvalOptions& options
   json["alignment"] = AlignmentToJson(report.ape.alignment);
   json["inputs"] = {{"gt", inputs.gt_path.string()},
                     {"est", inputs.est_path.string()},
-                    {"format", options.format == TrajectoryFormat::kKitti ? "kitti" : "tum"},
+                    {"format", options.euroc_reference                      ? "euroc"
+                               : options.format == TrajectoryFormat::kKitti ? "kitti"
+                                                                            : "tum"},
                     {"gt_poses", inputs.gt_size},
                     {"est_poses", inputs.est_size},
                     {"associated_poses", inputs.reference.size()},

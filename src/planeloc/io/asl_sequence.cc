@@ -203,7 +203,8 @@ AslSequence AslSequence::Open(const fs::path& folder) {
 }
 
 double AslSequence::timestamp(std::size_t index) const {
-  return static_cast<double>(timestamps_ns_.at(index) - timestamps_ns_.front()) * 1e-9;
+  const std::int64_t ns = timestamps_ns_.at(index);
+  return static_cast<double>(ns / 1000000000) + static_cast<double>(ns % 1000000000) * 1e-9;
 }
 
 bool AslSequence::HasFrame(std::size_t index) const {

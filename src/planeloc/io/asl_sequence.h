@@ -36,7 +36,8 @@ class AslSequence : public StereoSource {
   std::size_t size() const override { return timestamps_ns_.size(); }
   // The rectified stereo camera (the raw images' size).
   const StereoCamera& camera() const override { return rectifier_->camera(); }
-  // Seconds from the first frame.
+  // Seconds on the dataset's clock (Unix time for EuRoC), so that a TUM trajectory written from
+  // it pairs with the ground truth's csv (`eval --format euroc`, evo_ape euroc).
   double timestamp(std::size_t index) const override;
   // The dataset's clock: nanoseconds, as in data.csv and the ground truth's csv.
   std::int64_t timestamp_ns(std::size_t index) const { return timestamps_ns_.at(index); }

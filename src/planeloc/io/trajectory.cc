@@ -239,6 +239,41 @@ Trajectory ReadTumTrajectory(const std::filesystem::path& path) {
   return trajectory;
 }
 
+Trajectory ReadEurocTrajectory(const std::filesystem::path& path) {
+  Trajectory trajectory;
+  for (const NumberLine& line : ReadNumberLines(path, "EuRoC ground-truth file")) {
+    const auto& v = line.values;
+    if (v.size() < 8) {
+      throw InputError(
+          path.string(), line.line,
+          fmt::format("a EuRoC ground-truth line needs at least 8 numbers, found {}", v.size()),
+          "pass state_groundtruth_estimate0/data.csv or vicon0/data.csv: "
+          "'timestamp [ns], p x y z, q w x y z, ...' a line");
+    }
+    const Eigen::Quaterniond q(v[4], v[5], v[6], v[7]);
+    if (std::abs(q.norm() - 1.0) > kQuaternionNormTolerance) {
+      throw InputError(path.string(), line.line,
+                       fmt::format("|q| = {:.6g}: the quaternion is not a unit quaternion "
+                                   "(tolerance {})",
+                                   q.norm(), kQuaternionNormTolerance),
+                       "write a unit quaternion q_w q_x q_y q_z (EuRoC order: w first)");
+    }
+    const double seconds = v[0] * 1e-9;  // ns as a double: 256 ns resolution at 1.4e18
+    if (!trajectory.timestamps.empty() && seconds <= trajectory.timestamps.back()) {
+      throw InputError(path.string(), line.line,
+                       fmt::format("timestamp {} ns is not after the previous one", v[0]),
+                       "sort the poses by time and remove duplicates");
+    }
+    trajectory.timestamps.push_back(seconds);
+    trajectory.world_from_cam.emplace_back(q, Eigen::Vector3d(v[1], v[2], v[3]));
+  }
+  if (trajectory.world_from_cam.empty()) {
+    throw InputError(path.string(), "the EuRoC ground-truth file holds no poses",
+                     "pass state_groundtruth_estimate0/data.csv of a mav0 folder");
+  }
+  return trajectory;
+}
+
 Trajectory ReadTrajectory(const std::filesystem::path& path, TrajectoryFormat format) {
   return format == TrajectoryFormat::kKitti ? ReadKittiTrajectory(path) : ReadTumTrajectory(path);
 }

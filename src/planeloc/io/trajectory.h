@@ -42,6 +42,10 @@ void CheckRotation(const Eigen::Matrix3d& rotation, const std::string& source, i
 Trajectory ReadKittiTrajectory(const std::filesystem::path& path,
                                const std::optional<std::filesystem::path>& times_path = {});
 Trajectory ReadTumTrajectory(const std::filesystem::path& path);
+// EuRoC / ASL ground truth (state_groundtruth_estimate0/data.csv, vicon0/data.csv): comma
+// separated, '#' header, 'timestamp [ns], p_x p_y p_z, q_w q_x q_y q_z, ...' (further columns
+// ignored), read as evo reads it: seconds, and the body's pose (not a camera's) in world_from_cam.
+Trajectory ReadEurocTrajectory(const std::filesystem::path& path);
 Trajectory ReadTrajectory(const std::filesystem::path& path, TrajectoryFormat format);
 
 // The rows of a KITTI pose file exactly as written, without the re-orthonormalization that
