@@ -1,4 +1,4 @@
-// `planeloc run`: stereo visual odometry over a KITTI sequence or a rosbag (see docs/tracking.md).
+// `planeloc run`: stereo visual odometry over a KITTI or ASL/EuRoC sequence or a rosbag (see docs/tracking.md).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -13,6 +13,7 @@
 
 #include "command_registry.h"
 #include "flags.h"
+#include "planeloc/io/asl_sequence.h"
 #include "planeloc/pipeline/run_sequence.h"
 #include "planeloc/util/allocator.h"
 #include "planeloc/util/error.h"
@@ -206,7 +207,18 @@ RunOptions MakeRunOptions(const RunArgs& args) {
   options.sequence = args.sequence;
   if (!args.bag.empty()) options.source = OpenBag(args);
   options.cameras = ParseCameraChoice(args.cameras);
-  if (!args.init_pose_from.empty()) {
+  if (!args.init_pose_from.empty() &&
+      std::filesystem::path(args.init_pose_from).extension() == ".csv") {
+    // An ASL/EuRoC ground truth: the body's pose at frame 0's time, through the rig's T_BS.
+    CheckInput(args.bag.empty() && AslSequence::IsAslFolder(args.sequence), args.init_pose_from, 0,
+               "a EuRoC ground-truth csv gives the body's pose: it needs the ASL sequence's "
+               "T_BS (--sequence MAV0)",
+               "pass --sequence the mav0 folder this ground truth belongs to, or a KITTI/TUM "
+               "pose file");
+    auto asl = std::make_shared<AslSequence>(AslSequence::Open(args.sequence));
+    options.world_from_cam_initial = asl->CameraPoseFromGroundTruth(args.init_pose_from, 0);
+    options.source = std::move(asl);
+  } else if (!args.init_pose_from.empty()) {
     options.world_from_cam_initial = ReadFirstPose(args.init_pose_from);
   } else if (!args.init_pose.empty()) {
     options.world_from_cam_initial = ParsePose12(args.init_pose);
@@ -369,7 +381,9 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
                 "--bag: the image topics are rectified although the camera info has the raw "
                 "camera's distortion D and rectification R (image_rect with the raw camera_info)");
   auto* from = cmd->add_option("--init-pose-from", args->init_pose_from,
-                               "KITTI/TUM pose file whose first pose is frame 0's world_from_cam");
+                               "KITTI/TUM pose file whose first pose is frame 0's world_from_cam, "
+                               "or, with an ASL --sequence, its ground-truth csv (the body pose "
+                               "at frame 0's time through cam0's T_BS)");
   auto* pose = cmd->add_option("--init-pose", args->init_pose,
                                "\"12 numbers\": frame 0's world_from_cam, row-major 3x4");
   from->excludes(pose);

@@ -61,6 +61,26 @@ check "the same APE as KITTI eval of the original ($euroc_ape vs $kitti_ape m)" 
   "$python" -c "import sys; sys.exit(0 if abs(float(sys.argv[1]) - float(sys.argv[2])) < 1e-4 else 1)" \
   "$euroc_ape" "$kitti_ape"
 
+# Plane mode from the ground truth's csv (the body pose at frame 0's time through T_BS), exact
+# start: the trajectory of the KITTI run started from the pose file.
+gt_csv="$tmp/asl/mav0/state_groundtruth_estimate0/data.csv"
+planes="$tmp/sim/world/planes_gt.json"
+"$planeloc" run --sequence "$tmp/asl" --init-pose-from "$gt_csv" --planes "$planes" \
+  --init-sigma "0 0 0" --deterministic --out "$tmp/asl_planes.txt" >"$tmp/asl_planes.log" 2>&1
+check "plane mode on the ASL folder from its ground-truth csv exits 0" test $? -eq 0
+"$planeloc" run --sequence "$seq" --init-pose-from "$tmp/sim/poses/00.txt" --planes "$planes" \
+  --init-sigma "0 0 0" --deterministic --out "$tmp/kitti_planes.txt" >/dev/null 2>&1
+"$planeloc" eval --gt "$tmp/kitti_planes.txt" --est "$tmp/asl_planes.txt" --align none \
+  --json "$tmp/planes_eval.json" >/dev/null 2>&1
+rmse=$(ape "$tmp/planes_eval.json" 2>/dev/null || echo 1)
+check "the plane-mode trajectory of the KITTI original (RMSE $rmse m < 1e-4)" \
+  "$python" -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1e-4 else 1)" "$rmse"
+"$planeloc" run --sequence "$seq" --init-pose-from "$gt_csv" --no-planes --out "$tmp/x.txt" \
+  >"$tmp/csv_kitti.log" 2>&1
+code=$?
+check "a EuRoC csv with a KITTI --sequence is exit 2 naming the csv (got $code)" \
+  test "$code" -eq 2 -a -n "$(grep -l "data.csv" "$tmp/csv_kitti.log")"
+
 # A calibration that is not rigid: exit 2, the file named.
 sed -i 's/data: \[1.0, 0.0, 0.0,/data: [2.0, 0.0, 0.0,/' "$tmp/asl/mav0/cam1/sensor.yaml"
 "$planeloc" run --sequence "$tmp/asl" --no-planes --out "$tmp/bad.txt" >"$tmp/bad.log" 2>&1

@@ -4,6 +4,8 @@
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <map>
@@ -12,6 +14,7 @@
 #include <system_error>
 
 #include "planeloc/io/grey_image.h"
+#include "planeloc/io/trajectory.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
@@ -200,6 +203,31 @@ AslSequence AslSequence::Open(const fs::path& folder) {
                  sequence.mav0_.string(), sequence.unpaired_);
   }
   return sequence;
+}
+
+Rigid3d AslSequence::CameraPoseFromGroundTruth(const fs::path& csv, std::size_t index) const {
+  const Trajectory body = ReadEurocTrajectory(csv);
+  const double t = timestamp(index);
+  constexpr double kTolerance = 0.01;  // seconds: evo's default association tolerance
+  const std::vector<double>& stamps = body.timestamps;
+  CheckInput(t >= stamps.front() - kTolerance && t <= stamps.back() + kTolerance, csv.string(), 0,
+             fmt::format("frame {} ({:.6f} s) lies outside the ground truth's span ({:.6f} to "
+                         "{:.6f} s)",
+                         index, t, stamps.front(), stamps.back()),
+             "pass the ground truth of this sequence (mav0/state_groundtruth_estimate0/data.csv)");
+  const std::size_t after = static_cast<std::size_t>(
+      std::clamp<std::ptrdiff_t>(std::upper_bound(stamps.begin(), stamps.end(), t) - stamps.begin(),
+                                 1, static_cast<std::ptrdiff_t>(stamps.size()) - 1));
+  Rigid3d world_from_body = body.world_from_cam.front();
+  if (stamps.size() > 1) {
+    const std::size_t before = after - 1;
+    const double s = std::clamp((t - stamps[before]) / (stamps[after] - stamps[before]), 0.0, 1.0);
+    const Rigid3d& a = body.world_from_cam[before];
+    const Rigid3d& b = body.world_from_cam[after];
+    world_from_body =
+        Rigid3d(a.rotation.slerp(s, b.rotation), (1.0 - s) * a.translation + s * b.translation);
+  }
+  return world_from_body * body_from_camera_;
 }
 
 double AslSequence::timestamp(std::size_t index) const {

@@ -51,6 +51,11 @@ class AslSequence : public StereoSource {
   const Rigid3d& body_from_camera() const { return body_from_camera_; }
   // cam0 frames without a cam1 image of the same timestamp (left out).
   std::size_t unpaired_frames() const { return unpaired_; }
+  // world_from_camera of frame `index` (the rectified left camera) from a ground-truth csv of the
+  // body (ReadEurocTrajectory): the body pose interpolated at the frame's time (linear position,
+  // slerp), then body_from_camera(). Throws InputError naming the csv when the frame's time lies
+  // more than 10 ms outside the ground truth's span.
+  Rigid3d CameraPoseFromGroundTruth(const std::filesystem::path& csv, std::size_t index) const;
 
  private:
   AslSequence() = default;

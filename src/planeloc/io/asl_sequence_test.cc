@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -132,6 +133,29 @@ TEST(AslSequenceTest, FramesWithoutARightImageAreLeftOut) {
   ASSERT_EQ(sequence.size(), 2u);
   EXPECT_EQ(sequence.unpaired_frames(), 1u);
   EXPECT_EQ(sequence.timestamp_ns(1), kStamps[2]);
+}
+
+TEST(AslSequenceTest, CameraPoseFromTheBodysGroundTruth) {
+  // Body poses 10 ms before and after frame 1 (a 0.2 m step along x and 2 degrees of yaw): the
+  // camera pose is their midpoint, composed with T_BS(cam0) and the rectification.
+  TempDir dir("planeloc-asl");
+  WriteAsl(dir.path(), kEurocCam0, kEurocCam1, kStamps);
+  const AslSequence sequence = AslSequence::Open(dir.path());
+  const Eigen::Quaterniond yaw(Eigen::AngleAxisd(2.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()));
+  const long long t = kStamps[1];
+  WriteText(
+      dir.path() / "gt.csv",
+      fmt::format("#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], "
+                  "q_RS_x [], q_RS_y [], q_RS_z []\n{},1,2,3,1,0,0,0\n{},1.2,2,3,{},{},{},{}\n",
+                  t - 10000000, t + 10000000, yaw.w(), yaw.x(), yaw.y(), yaw.z()));
+  const Rigid3d camera = sequence.CameraPoseFromGroundTruth(dir.path() / "gt.csv", 1);
+  const Eigen::Quaterniond half(Eigen::AngleAxisd(1.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()));
+  const Rigid3d expected = Rigid3d(half, Eigen::Vector3d(1.1, 2, 3)) * sequence.body_from_camera();
+  // Times are doubles of Unix seconds (0.24 us apart at 1.4e9 s): 1.2 um at this 10 m/s.
+  EXPECT_LT((camera.translation - expected.translation).norm(), 1e-5);
+  EXPECT_LT(RotationAngle(camera.rotation, expected.rotation), 1e-6);
+  // Frame 2 is 40 ms after the last ground-truth pose: beyond the 10 ms tolerance.
+  EXPECT_THROW(sequence.CameraPoseFromGroundTruth(dir.path() / "gt.csv", 2), InputError);
 }
 
 // The message of the InputError that opening `dir` throws ("" when none).

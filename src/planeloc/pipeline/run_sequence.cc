@@ -461,10 +461,11 @@ RunSummary RunSequence(const RunOptions& run) {
   std::optional<SettingsFile> settings = ReadSettings(run);
   std::shared_ptr<const StereoSource> source = run.source;
   if (!source && AslSequence::IsAslFolder(run.sequence)) {
-    auto asl = std::make_shared<AslSequence>(AslSequence::Open(run.sequence));
-    spdlog::info("{}: ASL/EuRoC layout, {} stereo frames, raw pairs rectified on load", asl->name(),
-                 asl->size());
-    source = std::move(asl);
+    source = std::make_shared<AslSequence>(AslSequence::Open(run.sequence));
+  }
+  if (dynamic_cast<const AslSequence*>(source.get())) {
+    spdlog::info("{}: ASL/EuRoC layout, {} stereo frames, raw pairs rectified on load",
+                 source->name(), source->size());
   }
   if (!source)
     source = std::make_shared<KittiSequence>(KittiSequence::Open(run.sequence, run.cameras));
