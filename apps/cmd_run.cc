@@ -1,4 +1,5 @@
-// `planeloc run`: stereo visual odometry over a KITTI or ASL/EuRoC sequence or a rosbag (see docs/tracking.md).
+// `planeloc run`: stereo visual odometry over a KITTI or ASL/EuRoC sequence or a rosbag (see
+// docs/tracking.md).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
