@@ -10,22 +10,16 @@ planeloc="$1"
 src="${2:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-fail=0
-check() {  # check DESCRIPTION COMMAND...
-  local what="$1"; shift
-  if "$@"; then echo "ok   $what"; else echo "FAIL $what"; fail=1; fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh"
 python=""
 for candidate in ${PLANELOC_PYTHON:-} python3 /usr/bin/python3; do
   if command -v "$candidate" >/dev/null; then python="$candidate"; break; fi
 done
 
-"$planeloc" sim --out "$tmp/sim" --preset tiny --seed 1 --frames 30 --force >"$tmp/sim.log" 2>&1 || {
-  echo "FAIL sim"; cat "$tmp/sim.log"; exit 1; }
+run_step sim "$planeloc" sim --out "$tmp/sim" --preset tiny --seed 1 --frames 30 --force
 seq="$tmp/sim/sequences/00"
-"$python" "$src/scripts/kitti_to_asl.py" "$seq" "$tmp/asl" --poses "$tmp/sim/poses/00.txt" \
-  >"$tmp/convert.log" 2>&1 || {
-  echo "FAIL kitti_to_asl.py"; cat "$tmp/convert.log"; exit 1; }
+run_step kitti_to_asl "$python" "$src/scripts/kitti_to_asl.py" "$seq" "$tmp/asl" \
+  --poses "$tmp/sim/poses/00.txt"
 "$planeloc" run --sequence "$tmp/asl" --no-planes --deterministic --out "$tmp/asl.txt" \
   >"$tmp/asl.log" 2>&1
 check "run on the ASL folder exits 0" test $? -eq 0

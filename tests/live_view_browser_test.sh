@@ -23,7 +23,7 @@ trap cleanup EXIT
 out="${PLANELOC_VIEW_TEST_OUT:-$tmp/out}"
 mkdir -p "$out"
 skip_what="the live view is not checked in a browser"
-source "$(dirname "${BASH_SOURCE[0]}")/browser_test_lib.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh"
 if ! "$planeloc" run --help 2>/dev/null | grep -- '--view-wait' >/dev/null; then missing "the live view (libcpp-httplib-dev)"; fi
 require_browser
 

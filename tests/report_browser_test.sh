@@ -17,7 +17,7 @@ trap 'rm -rf "$tmp"' EXIT
 out="${PLANELOC_REPORT_TEST_OUT:-$tmp/out}"
 mkdir -p "$out"
 skip_what="the report is not checked in a browser"
-source "$(dirname "${BASH_SOURCE[0]}")/browser_test_lib.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh"
 require_browser
 
 # The pipeline, on the tiny preset (60 frames).

@@ -104,6 +104,25 @@ std::string KittiLine(const Rigid3d& world_from_cam) {
   return line;
 }
 
+// The checks every timestamped pose reader applies to one line: a unit quaternion, a time after
+// the previous one. `order` says how the file writes its quaternion (for the fix).
+void CheckStampedPose(const Eigen::Quaterniond& q, double seconds, const Trajectory& so_far,
+                      const std::filesystem::path& path, int line, const std::string& order) {
+  if (std::abs(q.norm() - 1.0) > kQuaternionNormTolerance) {
+    throw InputError(path.string(), line,
+                     fmt::format("|q| = {:.6g}: the quaternion is not a unit quaternion "
+                                 "(tolerance {})",
+                                 q.norm(), kQuaternionNormTolerance),
+                     "write a unit quaternion " + order);
+  }
+  if (!so_far.timestamps.empty() && seconds <= so_far.timestamps.back()) {
+    throw InputError(path.string(), line,
+                     fmt::format("timestamp {} is not after the previous one {}", seconds,
+                                 so_far.timestamps.back()),
+                     "sort the poses by time and remove duplicates");
+  }
+}
+
 std::string TumLine(double timestamp, const Rigid3d& world_from_cam) {
   const Eigen::Vector3d& t = world_from_cam.translation;
   const Eigen::Quaterniond& q = world_from_cam.rotation;
@@ -216,19 +235,8 @@ Trajectory ReadTumTrajectory(const std::filesystem::path& path) {
                        "write 't tx ty tz qx qy qz qw' a line");
     }
     const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    if (std::abs(q.norm() - 1.0) > kQuaternionNormTolerance) {
-      throw InputError(path.string(), line.line,
-                       fmt::format("|q| = {:.6g}: the quaternion is not a unit quaternion "
-                                   "(tolerance {})",
-                                   q.norm(), kQuaternionNormTolerance),
-                       "write a unit quaternion qx qy qz qw (TUM order: t tx ty tz qx qy qz qw)");
-    }
-    if (!trajectory.timestamps.empty() && v[0] <= trajectory.timestamps.back()) {
-      throw InputError(path.string(), line.line,
-                       fmt::format("timestamp {} is not after the previous one {}", v[0],
-                                   trajectory.timestamps.back()),
-                       "sort the poses by time and remove duplicates");
-    }
+    CheckStampedPose(q, v[0], trajectory, path, line.line,
+                     "qx qy qz qw (TUM order: t tx ty tz qx qy qz qw)");
     trajectory.timestamps.push_back(v[0]);
     trajectory.world_from_cam.emplace_back(q, Eigen::Vector3d(v[1], v[2], v[3]));
   }
@@ -251,19 +259,9 @@ Trajectory ReadEurocTrajectory(const std::filesystem::path& path) {
           "'timestamp [ns], p x y z, q w x y z, ...' a line");
     }
     const Eigen::Quaterniond q(v[4], v[5], v[6], v[7]);
-    if (std::abs(q.norm() - 1.0) > kQuaternionNormTolerance) {
-      throw InputError(path.string(), line.line,
-                       fmt::format("|q| = {:.6g}: the quaternion is not a unit quaternion "
-                                   "(tolerance {})",
-                                   q.norm(), kQuaternionNormTolerance),
-                       "write a unit quaternion q_w q_x q_y q_z (EuRoC order: w first)");
-    }
     const double seconds = v[0] * 1e-9;  // ns as a double: 256 ns resolution at 1.4e18
-    if (!trajectory.timestamps.empty() && seconds <= trajectory.timestamps.back()) {
-      throw InputError(path.string(), line.line,
-                       fmt::format("timestamp {} ns is not after the previous one", v[0]),
-                       "sort the poses by time and remove duplicates");
-    }
+    CheckStampedPose(q, seconds, trajectory, path, line.line,
+                     "q_w q_x q_y q_z (EuRoC order: w first)");
     trajectory.timestamps.push_back(seconds);
     trajectory.world_from_cam.emplace_back(q, Eigen::Vector3d(v[1], v[2], v[3]));
   }

@@ -120,7 +120,7 @@ FusedCorrection FuseRegistration(const RegistrationResult& result,
   const Eigen::MatrixXd innovation_covariance =
       all.registration_covariance + all.current_covariance;
   fused.worst_sigmas = 0;
-  std::vector<int> changed, held_at_first;
+  std::vector<int> changed, held_observed;
   for (std::size_t k = 0; k < observed.size(); ++k) {
     const int dof = observed[k];
     fused.registered(dof) = all.estimate(k);
@@ -131,7 +131,7 @@ FusedCorrection FuseRegistration(const RegistrationResult& result,
       fused.worst_dof = dof;
     }
     const double own_sigma = std::sqrt(std::max(0.0, all.registration_covariance(k, k)));
-    (std::abs(all.estimate(k)) > min_sigmas * own_sigma ? changed : held_at_first).push_back(dof);
+    (std::abs(all.estimate(k)) > min_sigmas * own_sigma ? changed : held_observed).push_back(dof);
   }
   fused.accepted = fused.worst_sigmas <= max_sigmas;
 
@@ -142,9 +142,7 @@ FusedCorrection FuseRegistration(const RegistrationResult& result,
   // tiny seed 43 the marginal changed the height by -0.089 m while the pitch that went with it
   // (0.16 deg, 1.3 of its sigma) was held, which moved that structure 9 cm off the road it lay
   // on. Holding a DoF can make another insignificant, so the test is repeated until it settles.
-  std::vector<int> held_observed = held_at_first;
-  for (;;) {
-    if (changed.empty()) break;
+  while (!changed.empty()) {
     const Conditional given = ConditionOnHeld(all, observed, changed, held_observed);
     std::vector<int> still_changed;
     for (std::size_t k = 0; k < changed.size(); ++k) {

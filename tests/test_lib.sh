@@ -1,7 +1,8 @@
-# Shared by the headless-Chromium tests (report_browser_test.sh, live_view_browser_test.sh):
-# sourced after the caller set `tmp` (a scratch folder) and `skip_what` (what goes unchecked when
-# a component is missing). Sets `fail`, `chromium` and `python` (the first python3 that imports
-# PIL: a pyenv `python3` on PATH often lacks Debian's python3-pil).
+# Helpers of the shell tests (report_browser_test.sh, live_view_browser_test.sh, asl_run_test.sh):
+# sourced after the caller set `tmp` (a scratch folder) and, for `missing`, `skip_what` (what goes
+# unchecked when a component is missing). Sets `fail`; require_browser sets `chromium` and
+# `python` (the first python3 that imports PIL: a pyenv `python3` on PATH often lacks Debian's
+# python3-pil).
 fail=0
 check() {  # check DESCRIPTION COMMAND...
   local what="$1"; shift
