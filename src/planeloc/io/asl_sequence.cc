@@ -10,10 +10,12 @@
 #include <fstream>
 #include <map>
 #include <opencv2/core/eigen.hpp>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
 #include "planeloc/io/grey_image.h"
+#include "planeloc/io/settings_reader.h"
 #include "planeloc/io/trajectory.h"
 #include "planeloc/util/error.h"
 
@@ -100,15 +102,32 @@ CameraSensor ReadSensor(const fs::path& camera) {
   const std::string yaml = path.string();
   CheckInput(IsFile(path), yaml, 0, "the camera's calibration is missing",
              "an ASL/EuRoC camera folder holds sensor.yaml (T_BS, intrinsics, distortion)");
+  // EuRoC's sensor.yaml starts with a comment, not OpenCV's `%YAML:1.0` header, so the text is
+  // normalized first (the settings reader's rules) and parsed from memory.
+  std::string text;
+  {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream buffer;
+    buffer << in.rdbuf();
+    CheckInput(in.good() || in.eof(), yaml, 0, "cannot read the file",
+               "check the file's permissions");
+    text = buffer.str();
+  }
+  if (const int line = LineOfBadYamlDocumentMarker(text)) {
+    throw InputError(yaml, line, "a line starting with `---` that is not a document marker",
+                     "write `---` alone on its line (or remove it)");
+  }
+  NormalizeYamlHeader(text);
   cv::FileStorage storage;
   try {
-    storage.open(yaml, cv::FileStorage::READ);
-  } catch (const cv::Exception& error) {
+    storage.open(text,
+                 cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
+  } catch (const std::exception& error) {
     throw InputError(yaml, 0, fmt::format("not readable as YAML: {}", error.what()),
-                     "fix the file (EuRoC's sensor.yaml starts with %YAML:1.0)");
+                     "fix the file (see EuRoC's cam0/sensor.yaml)");
   }
   CheckInput(storage.isOpened(), yaml, 0, "not readable as YAML",
-             "fix the file (EuRoC's sensor.yaml starts with %YAML:1.0)");
+             "fix the file (see EuRoC's cam0/sensor.yaml)");
   const std::string model = storage["camera_model"].isString()
                                 ? static_cast<std::string>(storage["camera_model"])
                                 : std::string("pinhole");

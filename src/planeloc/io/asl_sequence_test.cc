@@ -39,9 +39,12 @@ const CameraYaml kEurocCam1{
 
 void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
+// In EuRoC's own form: no `%YAML:1.0` header (cv::FileStorage refuses such a file unless the
+// reader adds one), a comment first, T_BS as a cols/rows/data map.
 void WriteSensor(const fs::path& camera, const CameraYaml& yaml) {
   WriteText(camera / "sensor.yaml",
-            fmt::format("%YAML:1.0\nsensor_type: camera\ncomment: VI-Sensor\nT_BS:\n  cols: 4\n"
+            fmt::format("# General sensor definitions.\nsensor_type: camera\ncomment: VI-Sensor\n"
+                        "\n# Sensor extrinsics wrt. the body-frame.\nT_BS:\n  cols: 4\n"
                         "  rows: 4\n  data: [{}]\nrate_hz: 20\nresolution: [752, 480]\n"
                         "camera_model: pinhole\nintrinsics: [{}] #fu, fv, cu, cv\n"
                         "distortion_model: {}\ndistortion_coefficients: [{}]\n",

@@ -29,46 +29,6 @@ std::string ReadText(const std::filesystem::path& path) {
   return text.str();
 }
 
-// cv::FileStorage detects YAML by a `%YAML` header at the very first byte. Files without it
-// (planeloc's own key lists) get one; a header after leading blank lines or comments is blanked
-// (the line stays, so line numbers do not move). Returns the number of lines added in front.
-int NormalizeHeader(std::string& text) {
-  const bool starts_with_header = text.rfind("%YAML", 0) == 0;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string::npos) end = text.size();
-    if (!(starts_with_header && start == 0) && text.compare(start, 5, "%YAML") == 0) {
-      text.replace(start, end - start, "");
-      end = start;
-    }
-    start = end + 1;
-  }
-  if (starts_with_header) return 0;
-  text.insert(0, "%YAML:1.0\n");
-  return 1;
-}
-
-// OpenCV 4.6's YAML parser never returns on some inputs with a "---" document marker that has
-// text after it on the same line, followed by more lines (fuzz finding: "---C: 0\n----\n1").
-// A settings file has no use for such a line: `---` stands alone (or before a comment). Returns the
-// 1-based line of the first other line starting with "---", 0 if none.
-int LineOfBadDocumentMarker(const std::string& text) {
-  int line = 1;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string::npos) end = text.size();
-    if (text.compare(start, 3, "---") == 0) {
-      const std::size_t rest = text.find_first_not_of(" \t\r", start + 3);
-      if (rest < end && text[rest] != '#') return line;
-    }
-    start = end + 1;
-    ++line;
-  }
-  return 0;
-}
-
 // OpenCV 4.6 reports parse errors as "...(LINE): message..." (the line 1-based).
 InputError SyntaxError(const std::filesystem::path& path, const cv::Exception& e, int added_lines) {
   static const std::regex kLine(R"(\((\d+)\): ([^'\n]*))");
@@ -100,16 +60,49 @@ std::string Lower(std::string s) {
 
 }  // namespace
 
+int NormalizeYamlHeader(std::string& text) {
+  const bool starts_with_header = text.rfind("%YAML", 0) == 0;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    if (!(starts_with_header && start == 0) && text.compare(start, 5, "%YAML") == 0) {
+      text.replace(start, end - start, "");
+      end = start;
+    }
+    start = end + 1;
+  }
+  if (starts_with_header) return 0;
+  text.insert(0, "%YAML:1.0\n");
+  return 1;
+}
+
+int LineOfBadYamlDocumentMarker(const std::string& text) {
+  int line = 1;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    if (text.compare(start, 3, "---") == 0) {
+      const std::size_t rest = text.find_first_not_of(" \t\r", start + 3);
+      if (rest < end && text[rest] != '#') return line;
+    }
+    start = end + 1;
+    ++line;
+  }
+  return 0;
+}
+
 SettingsReader::SettingsReader(const std::filesystem::path& path) : path_(path) {
   std::string text = ReadText(path);
   const std::string original = text;
-  if (const int line = LineOfBadDocumentMarker(text)) {
+  if (const int line = LineOfBadYamlDocumentMarker(text)) {
     throw InputError(path.string(), line,
                      "not a valid settings file: a line starting with `---` that is not a "
                      "document marker",
                      "write `---` alone on its line (or remove it); comments start with `#`");
   }
-  const int added_lines = NormalizeHeader(text);
+  const int added_lines = NormalizeYamlHeader(text);
   try {
     storage_.open(text,
                   cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);

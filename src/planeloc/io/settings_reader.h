@@ -20,6 +20,17 @@
 
 namespace planeloc {
 
+// cv::FileStorage detects YAML by a `%YAML` header at the very first byte. Text without it
+// (planeloc's own key lists, EuRoC's sensor.yaml, which starts with a comment) gets one; a header
+// after leading blank lines or comments is blanked (the line stays, so line numbers do not move).
+// Returns the number of lines added in front (0 or 1).
+int NormalizeYamlHeader(std::string& text);
+// OpenCV 4.6's YAML parser never returns on some inputs with a "---" document marker that has
+// text after it on the same line, followed by more lines (fuzz finding: "---C: 0\n----\n1").
+// Returns the 1-based line of the first line starting with "---" that is not a bare marker (or
+// one before a comment), 0 if none: check it before handing text to cv::FileStorage.
+int LineOfBadYamlDocumentMarker(const std::string& text);
+
 class SettingsReader {
  public:
   struct Entry {

@@ -50,6 +50,9 @@ FrameLighting LightingForFrame(Lighting mode, std::uint32_t seed, int frame) {
 void CameraRenderOptions::Check() const {
   if (supersampling < 1 || supersampling > 8) throw OptionsError("supersampling must be in [1, 8]");
   if (!(noise_sigma >= 0.0f)) throw OptionsError("noise_sigma must be >= 0");
+  if (!distortion.allFinite() || distortion.cwiseAbs().maxCoeff() > 2.0) {
+    throw OptionsError("distortion coefficients must be finite and within [-2, 2]");
+  }
 }
 
 void LidarOptions::Check() const {
@@ -89,6 +92,53 @@ struct RayShader {
   }
 };
 
+// A raw pixel position -> the unit ray through it in the view's frame. With distortion the
+// normalized point is found by Newton's method on OpenCV's radial-tangential model (the model the
+// rectifier inverts), which converges in a few steps where fixed-point iteration is slow at the
+// corners of a wide, strongly distorted lens such as EuRoC's.
+class PixelRays {
+ public:
+  PixelRays(const StereoCamera& camera, const Eigen::Vector4d& distortion)
+      : inv_fx_(1.0f / static_cast<float>(camera.fx)),
+        inv_fy_(1.0f / static_cast<float>(camera.fy)),
+        cx_(static_cast<float>(camera.cx)),
+        cy_(static_cast<float>(camera.cy)),
+        k_(distortion),
+        distorted_(!distortion.isZero(0.0)) {}
+
+  Eigen::Vector3f operator()(float px, float py) const {
+    if (!distorted_) {
+      return Eigen::Vector3f((px - cx_) * inv_fx_, (py - cy_) * inv_fy_, 1.0f).normalized();
+    }
+    const double xd = (px - cx_) * static_cast<double>(inv_fx_);
+    const double yd = (py - cy_) * static_cast<double>(inv_fy_);
+    const double k1 = k_[0], k2 = k_[1], p1 = k_[2], p2 = k_[3];
+    double x = xd, y = yd;
+    for (int iteration = 0; iteration < 8; ++iteration) {
+      const double r2 = x * x + y * y;
+      const double radial = 1.0 + k1 * r2 + k2 * r2 * r2;
+      const double dradial = 2.0 * (k1 + 2.0 * k2 * r2);  // d radial / d(x or y), over x or y
+      const double ex = x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x) - xd;
+      const double ey = y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y - yd;
+      const double jxx = radial + x * x * dradial + 2.0 * p1 * y + 6.0 * p2 * x;
+      const double jxy = x * y * dradial + 2.0 * p1 * x + 2.0 * p2 * y;
+      const double jyy = radial + y * y * dradial + 6.0 * p1 * y + 2.0 * p2 * x;
+      const double det = jxx * jyy - jxy * jxy;
+      if (std::abs(det) < 1e-12) break;
+      const double step_x = (jyy * ex - jxy * ey) / det, step_y = (jxx * ey - jxy * ex) / det;
+      x -= step_x;
+      y -= step_y;
+      if (std::abs(step_x) + std::abs(step_y) < 1e-12) break;
+    }
+    return Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y), 1.0f).normalized();
+  }
+
+ private:
+  float inv_fx_, inv_fy_, cx_, cy_;
+  Eigen::Vector4d k_;
+  bool distorted_;
+};
+
 // Identifies what a pixel-centre ray hit: -1 for sky, else kind and index.
 std::int64_t HitKey(bool found, const Hit& hit) {
   if (!found) return -1;
@@ -107,12 +157,8 @@ cv::Mat RenderView(const Scene& scene, const Shader& shader, const StereoCamera&
   const Eigen::Vector3f origin = world_from_view.translation.cast<float>();
   const int ss = options.supersampling;
   const float inv_fx = 1.0f / static_cast<float>(camera.fx);
-  const float inv_fy = 1.0f / static_cast<float>(camera.fy);
-  const float cx = static_cast<float>(camera.cx), cy = static_cast<float>(camera.cy);
-  auto ray = [&](float px, float py) {
-    return Eigen::Vector3f(
-        rotation * Eigen::Vector3f((px - cx) * inv_fx, (py - cy) * inv_fy, 1.0f).normalized());
-  };
+  const PixelRays pixel_rays(camera, options.distortion);
+  auto ray = [&](float px, float py) { return Eigen::Vector3f(rotation * pixel_rays(px, py)); };
   const RayShader tracer{scene, shader, light};
   // Pass 1: one ray through every pixel centre; only what it hit is kept (8 bytes a pixel).
   std::vector<std::int64_t> key(static_cast<std::size_t>(width) * height);
@@ -168,6 +214,56 @@ cv::Mat RenderView(const Scene& scene, const Shader& shader, const StereoCamera&
           radiance *= inv_samples;
         }
         const float value = 255.0f * light.exposure * radiance + noise(rng);
+        out[x] = static_cast<std::uint8_t>(std::clamp(std::lround(value), 0l, 255l));
+      }
+    }
+  });
+  return image;
+}
+
+cv::Mat RenderViewDuringExposure(const Scene& scene, const Shader& shader,
+                                 const StereoCamera& camera, const Rigid3d& world_from_view_open,
+                                 const Rigid3d& world_from_view_close, const FrameLighting& light,
+                                 std::uint32_t noise_seed, const CameraRenderOptions& options) {
+  options.Check();
+  const int width = camera.width, height = camera.height;
+  const int ss = options.supersampling, samples = ss * ss;
+  // One pose per sample time, (k + 0.5) / samples through the exposure.
+  std::vector<Eigen::Matrix3f> rotations;
+  std::vector<Eigen::Vector3f> origins;
+  for (int k = 0; k < samples; ++k) {
+    const double tau = (k + 0.5) / samples;
+    rotations.push_back(world_from_view_open.rotation.slerp(tau, world_from_view_close.rotation)
+                            .toRotationMatrix()
+                            .cast<float>());
+    origins.push_back(
+        ((1.0 - tau) * world_from_view_open.translation + tau * world_from_view_close.translation)
+            .cast<float>());
+  }
+  const PixelRays pixel_rays(camera, options.distortion);
+  const float footprint = 1.0f / static_cast<float>(camera.fx) / static_cast<float>(ss);
+  const RayShader tracer{scene, shader, light};
+  cv::Mat image(height, width, CV_8UC1);
+  const float inv_samples = 1.0f / static_cast<float>(samples);
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      std::mt19937 rng(HashCombine(noise_seed, static_cast<std::uint32_t>(y)));
+      std::normal_distribution<float> noise(0.0f, options.noise_sigma);
+      std::uint8_t* out = image.ptr<std::uint8_t>(y);
+      for (int x = 0; x < width; ++x) {
+        float radiance = 0.0f;
+        // Sample positions and times are paired differently from pixel to pixel, so the blur
+        // carries no fixed pattern.
+        const int shift = (x + 2 * y) % samples;
+        for (int sy = 0; sy < ss; ++sy) {
+          for (int sx = 0; sx < ss; ++sx) {
+            const int k = (sx + ss * sy + shift) % samples;
+            const float px = x + (sx + 0.5f) / ss - 0.5f, py = y + (sy + 0.5f) / ss - 0.5f;
+            const Eigen::Vector3f dir = rotations[k] * pixel_rays(px, py);
+            radiance += tracer.Trace(origins[k], dir, footprint);
+          }
+        }
+        const float value = 255.0f * light.exposure * radiance * inv_samples + noise(rng);
         out[x] = static_cast<std::uint8_t>(std::clamp(std::lround(value), 0l, 255l));
       }
     }

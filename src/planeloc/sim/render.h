@@ -33,6 +33,9 @@ FrameLighting LightingForFrame(Lighting mode, std::uint32_t seed, int frame);
 struct CameraRenderOptions {
   int supersampling = 2;     // samples per pixel along each axis
   float noise_sigma = 2.0f;  // grey levels, Gaussian, added after quantization-free shading
+  // Radial-tangential k1 k2 p1 p2 (OpenCV's model, EuRoC's cameras) of the raw image; zero is an
+  // ideal pinhole (the rectified KITTI-like views).
+  Eigen::Vector4d distortion = Eigen::Vector4d::Zero();
   void Check() const;
 };
 
@@ -42,6 +45,15 @@ struct CameraRenderOptions {
 cv::Mat RenderView(const Scene& scene, const Shader& shader, const StereoCamera& camera,
                    const Rigid3d& world_from_view, const FrameLighting& lighting,
                    std::uint32_t noise_seed, const CameraRenderOptions& options = {});
+
+// The same view with motion blur: every pixel takes supersampling^2 samples, each at its own time
+// in the exposure (the pose interpolated between the shutter's opening and closing), so a camera
+// that moves by pixels during the exposure smears the image as a real one does.
+cv::Mat RenderViewDuringExposure(const Scene& scene, const Shader& shader,
+                                 const StereoCamera& camera, const Rigid3d& world_from_view_open,
+                                 const Rigid3d& world_from_view_close,
+                                 const FrameLighting& lighting, std::uint32_t noise_seed,
+                                 const CameraRenderOptions& options = {});
 
 struct LidarOptions {
   int beams = 64;

@@ -141,6 +141,45 @@ float Shader::Facade(const FacadeStyle& s, float u, float v, float width, float 
   return std::clamp(value, 0.0f, 1.0f);
 }
 
+float Shader::Interior(int style, float u, float v, float width, float height, float fp) const {
+  const auto& walls = bank_.walls;
+  const std::uint32_t seed = HashCombine(static_cast<std::uint32_t>(style), 0x5eedu);
+  const MipTexture& tex = walls[seed % walls.size()];
+  const float off = static_cast<float>(seed % 997u) * 0.37f;
+  const float wall =
+      std::clamp(tex.Sample(u + off, v + 0.5f * off, fp) * (0.9f + 0.5f * Unit(seed >> 8)) *
+                     (0.8f + 0.4f * bank_.stains.Sample(u + 3.0f * off, v, fp)),
+                 0.0f, 1.0f);
+  // Posters and marker boards on a 1.6 x 1.4 m grid, as the calibration boards and posters of the
+  // EuRoC Vicon rooms: the corners ORB finds on otherwise plain walls and furniture.
+  const float cell_u = 1.6f, cell_v = 1.4f;
+  const int cu = static_cast<int>(std::floor(u / cell_u)),
+            cv = static_cast<int>(std::floor(v / cell_v));
+  const std::uint32_t h =
+      HashCombine(seed, static_cast<std::uint32_t>(cu), static_cast<std::uint32_t>(cv));
+  if (Unit(h) > 0.65f) return wall;
+  const float pw = 0.45f + 0.6f * Unit(h >> 3), ph = 0.5f + 0.5f * Unit(h >> 7);
+  const float u0 = cu * cell_u + 0.1f + (cell_u - 0.2f - pw) * Unit(h >> 11);
+  const float v0 = cv * cell_v + 0.1f + (cell_v - 0.2f - ph) * Unit(h >> 15);
+  const float inside = RectCoverage(u, v, u0, u0 + pw, v0, v0 + ph, fp);
+  if (inside <= 0.0f || u0 + pw > width || v0 + ph > height) return wall;
+  // A 6 x 6 grid of black and white cells inside a white margin (an ArUco-like board); cells
+  // fade to their mean once the footprint nears their size, so distant boards do not alias.
+  const float margin = 0.06f;
+  const float gx = (u - u0 - margin) / (pw - 2.0f * margin) * 6.0f;
+  const float gy = (v - v0 - margin) / (ph - 2.0f * margin) * 6.0f;
+  float board = 0.92f;
+  if (gx >= 0.0f && gx < 6.0f && gy >= 0.0f && gy < 6.0f) {
+    const std::uint32_t bits = HashCombine(h, 0xb0a4du);
+    const int ix = static_cast<int>(gx), iy = static_cast<int>(gy);
+    const bool black = ix == 0 || iy == 0 || ix == 5 || iy == 5 || ((bits >> (iy * 4 + ix)) & 1u);
+    const float cell = std::min(pw, ph) / 6.0f;
+    const float detail = std::clamp(1.5f - fp / (0.5f * cell), 0.0f, 1.0f);
+    board = Mix(0.5f, black ? 0.06f : 0.92f, detail);
+  }
+  return Mix(wall, board, inside);
+}
+
 float Shader::Albedo(const Hit& hit, const Eigen::Vector3f& p, float fp) const {
   switch (hit.kind) {
     case PrimitiveKind::kSphere:
@@ -192,6 +231,8 @@ float Shader::Albedo(const Hit& hit, const Eigen::Vector3f& p, float fp) const {
       return bank_.bark.Sample(u, v, fp);
     case Material::kMetal:
       return 0.5f;
+    case Material::kInterior:
+      return Interior(q.style, u, v, size.x(), size.y(), fp);
   }
   return 0.5f;
 }

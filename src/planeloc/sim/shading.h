@@ -32,6 +32,7 @@ class Shader {
                float footprint) const;
   float ShopFront(const FacadeStyle& style, float u, float v, float width, float wall,
                   float footprint) const;
+  float Interior(int style, float u, float v, float width, float height, float footprint) const;
   float Windows(const FacadeStyle& style, float u, float v, float width, float height, float wall,
                 float footprint) const;
 

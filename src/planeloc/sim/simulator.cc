@@ -13,6 +13,7 @@
 #include "planeloc/io/trajectory.h"
 #include "planeloc/sim/raycast.h"
 #include "planeloc/sim/render.h"
+#include "planeloc/sim/room_sequence.h"
 #include "planeloc/sim/shading.h"
 #include "planeloc/sim/sim_output.h"
 #include "planeloc/sim/street.h"
@@ -29,7 +30,7 @@ namespace fs = std::filesystem;
 
 constexpr double kRateHz = 10.0;
 constexpr double kLaneOffset = -1.75;  // the vehicle keeps to the right lane
-constexpr const char* kPresets = "tiny, small, kitti07-like";
+constexpr const char* kPresets = "tiny, small, kitti07-like, room";
 
 int PresetFrames(const std::string& preset) {
   if (preset == "tiny") return 60;
@@ -232,8 +233,8 @@ std::string LightingName(Lighting lighting) {
 }
 
 void SimOptions::Check() const {
-  CheckInput(preset == "tiny" || preset == "small" || preset == "kitti07-like", "", 0,
-             "unknown preset '" + preset + "'", std::string("use one of: ") + kPresets);
+  CheckInput(preset == "tiny" || preset == "small" || preset == "kitti07-like" || preset == "room",
+             "", 0, "unknown preset '" + preset + "'", std::string("use one of: ") + kPresets);
   CheckInput(!frames || *frames > 0, "", 0, "--frames must be positive",
              "pass a frame count >= 1, or omit --frames for the preset's length");
   changes.Check();
@@ -273,6 +274,7 @@ Rigid3d Kitti07CamFromVelo() { return Rigid3d::FromMatrix3x4(Kitti07Tr()); }
 
 Scenario BuildScenario(const SimOptions& options) {
   options.Check();
+  if (options.preset == "room") return BuildRoomScenario(options);
   Scenario scenario;
   StreetPath street;
   if (!options.trajectory_path.empty()) {
@@ -294,6 +296,7 @@ Scenario BuildScenario(const SimOptions& options) {
 
 SimResult GenerateSequence(const SimOptions& options, const fs::path& out_dir, bool force) {
   options.Check();
+  if (options.preset == "room") return GenerateRoomSequence(options, out_dir, force);
   const TextureBank bank =
       options.texture_dir.empty()
           ? TextureBank::Procedural(HashCombine(options.seed, 3u))

@@ -38,7 +38,8 @@ std::string LightingName(Lighting lighting);
 
 struct SimOptions {
   std::string preset = "small";  // "tiny" (straight, ~60 frames) | "small" (one turn, ~300) |
-                                 // "kitti07-like" (~700 m loop, >= 4 turns, 1101 frames)
+                                 // "kitti07-like" (~700 m loop, >= 4 turns, 1101 frames) |
+                                 // "room" (indoor flight, 600 frames, ASL layout: room_sequence.h)
   std::uint32_t seed = 1;        // determines the town, the motion jitter and all noise
   std::optional<int> frames;     // first N frames; unset = the preset's (or trajectory's) length
   Lighting lighting = Lighting::kConstant;

@@ -24,9 +24,10 @@ enum class Material : std::uint8_t {
   kBark,      // tree trunks
   kCarPaint,
   kCarGlass,
-  kMetal,   // poles
-  kSign,    // traffic signs on poles
-  kMarker,  // test target: black square on white, see render_test.cc
+  kMetal,     // poles
+  kSign,      // traffic signs on poles
+  kMarker,    // test target: black square on white, see render_test.cc
+  kInterior,  // indoor wall or furniture: wall texture with posters and marker boards (room.h)
 };
 
 // A planar parallelogram origin + a * edge_u + b * edge_v, a, b in [0, 1]. Texture coordinates
