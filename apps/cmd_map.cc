@@ -62,6 +62,8 @@ struct PlanesArgs {
   double voxel = MapPlanesOptions().voxel_size;
   std::string frame = "map";
   std::vector<double> up;
+  double gt_min_area = PlaneMapEvalOptions().min_visible_area;
+  bool gt_all_kinds = false;
 };
 
 // --every, --min-range, --max-range of the commands that read a sequence's scans.
@@ -181,9 +183,12 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
             "e.g. --map map.pcd, or --tiles tiles/ (written by `planeloc map tile`)");
   CheckFlag(args.tiles.empty() || args.ply.empty(), "--ply", args.ply,
             "no --ply with --tiles (the labelled points stay in the tiles)", "drop --ply");
+  CheckFlag(args.gt_min_area > 0.0, "--gt-min-area", args.gt_min_area, "an area in m^2, > 0",
+            "e.g. --gt-min-area 1 for a room, 20 (the default) for a street");
   const MapPlanesOptions options = PlanesOptions(args, sigma_given, voxel_given);
   if (!args.tiles.empty())
-    return RunTiledPlanes({args.tiles, args.out, args.gt, args.frame}, options);
+    return RunTiledPlanes(
+        {args.tiles, args.out, args.gt, args.frame, args.gt_min_area, args.gt_all_kinds}, options);
   CheckOutputPaths({{"--out", args.out}, {"--ply", args.ply}},
                    {{"--map", args.map}, {"--gt", args.gt}, {"--options", args.options_yaml}});
   // Voxel-filtered while reading: memory follows the voxels, not the points of the file.
@@ -219,6 +224,8 @@ int RunPlanes(const PlanesArgs& args, bool sigma_given, bool voxel_given) {
     // One point a voxel face: `map build`'s default 0.10 m voxels, or the voxel filter's.
     eval_options.point_area =
         output.voxel_size > 0.0 ? output.voxel_size * output.voxel_size : 0.01;
+    eval_options.min_visible_area = args.gt_min_area;
+    if (args.gt_all_kinds) eval_options.kinds = {"ground", "facade", "other"};
     const PlaneMapEvaluation evaluation = EvaluatePlaneMap(
         output.points, output.extraction.point_plane, planes, ReadPlaneMap(args.gt), eval_options);
     LogPlaneMapEvaluation(args.gt, evaluation, eval_options);
@@ -316,6 +323,14 @@ MapSubcommand AddPlanesCommand(CLI::App& map) {
   planes->add_option("--gt", planes_args->gt,
                      "Ground-truth planes (a simulated world's world/planes_gt.json): log and "
                      "store the accuracy of the extracted planes");
+  planes
+      ->add_option("--gt-min-area", planes_args->gt_min_area,
+                   "With --gt: check the GT planes showing at least this area in the map, m^2 "
+                   "(1 for a room)")
+      ->capture_default_str();
+  planes->add_flag("--gt-all-kinds", planes_args->gt_all_kinds,
+                   "With --gt: check ceilings and table tops (\"other\") too, not only ground "
+                   "and facades");
   return {planes, [planes_args, sigma, voxel] {
             return RunPlanes(*planes_args, sigma->count() > 0, voxel->count() > 0);
           }};

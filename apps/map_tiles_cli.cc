@@ -211,6 +211,8 @@ int RunTiledPlanesOnRanks(const TiledPlanesArgs& args, const MapPlanesOptions& o
   PlaneMapEvalOptions eval_options;
   const double voxel = options.EffectiveVoxelSize();
   eval_options.point_area = voxel > 0.0 ? voxel * voxel : 0.01;
+  eval_options.min_visible_area = args.gt_min_area;
+  if (args.gt_all_kinds) eval_options.kinds = {"ground", "facade", "other"};
   nlohmann::json mine = nlohmann::json::array();
   for (std::size_t i = 0; i < index.tiles.size(); ++i) {
     if (static_cast<int>(i % world.size()) != world.rank()) continue;

@@ -27,6 +27,8 @@ struct TiledPlanesArgs {
   std::string out;
   std::string gt;
   std::string frame;
+  double gt_min_area = 20.0;  // m^2 a GT plane must show in the map to be checked
+  bool gt_all_kinds = false;  // also check "other" GT planes (ceilings, table tops)
 };
 
 // `options` checked; runs the tiles one after another, or spread over MPI ranks when launched by

@@ -1,5 +1,6 @@
 #include "plane_map_eval_log.h"
 
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 namespace planeloc::cli {
@@ -16,11 +17,11 @@ void LogPlaneMapEvaluation(const std::string& gt, const PlaneMapEvaluation& eval
     }
   }
   spdlog::info(
-      "map planes vs {}: {}/{} GT ground/facade planes with >= {} m^2 visible matched "
+      "map planes vs {}: {}/{} GT {} planes with >= {} m^2 visible matched "
       "(< {} deg, < {} m); {:.2f} % of {} plane points within {} m of a GT plane",
-      gt, evaluation.good, evaluation.checked.size(), options.min_visible_area,
-      options.max_angle_deg, options.max_offset, 100.0 * evaluation.labelled_on_gt,
-      evaluation.labelled_points, options.labelled_distance);
+      gt, evaluation.good, evaluation.checked.size(), fmt::join(options.kinds, "/"),
+      options.min_visible_area, options.max_angle_deg, options.max_offset,
+      100.0 * evaluation.labelled_on_gt, evaluation.labelled_points, options.labelled_distance);
 }
 
 }  // namespace planeloc::cli

@@ -74,6 +74,8 @@ const std::vector<Key>& Keys() {
       D("Tracking.localSearchRadius", [](O& o) -> double& { return o.local_search_radius; }),
       D("Tracking.keyframeTrackedRatio", [](O& o) -> double& { return o.keyframe_tracked_ratio; }),
       I("Tracking.keyframeMinFrames", [](O& o) -> int& { return o.keyframe_min_frames; }),
+      D("Tracking.keyframeMaxRotationDeg",
+        [](O& o) -> double& { return o.keyframe_max_rotation_deg; }),
       I("Tracking.keyframeMinCloseTracked",
         [](O& o) -> int& { return o.keyframe_min_close_tracked; }),
       I("Tracking.keyframeMinCloseUntracked",

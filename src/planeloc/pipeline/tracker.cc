@@ -252,10 +252,17 @@ bool Tracker::NeedKeyframe(const Frame& frame, int inliers) const {
   input.inliers = inliers;
   input.reference_matches = reference_matches;
   input.need_close = need_close;
+  if (map_.HasKeyframe(map_.last_keyframe_id())) {
+    input.rotation_since_keyframe_deg =
+        frame.cam_from_world.rotation.angularDistance(
+            map_.keyframe(map_.last_keyframe_id()).cam_from_world.rotation) *
+        180.0 / M_PI;
+  }
   KeyframeRuleOptions rule;
   rule.min_frames = options_.keyframe_min_frames;
   rule.max_frames = static_cast<int>(std::lround(options_.fps));
   rule.tracked_ratio = options_.keyframe_tracked_ratio;
+  rule.max_rotation_deg = options_.keyframe_max_rotation_deg;
   return DecideKeyframe(input, rule).insert;
 }
 

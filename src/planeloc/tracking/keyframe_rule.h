@@ -20,16 +20,21 @@ struct KeyframeRuleInput {
   int inliers = 0;                // inliers of the frame's final pose optimization
   int reference_matches = 0;      // reference keyframe's points seen by >= 2 or 3 keyframes
   bool need_close = false;        // few tracked close points while many close ones are unmatched
+  double rotation_since_keyframe_deg = 0.0;  // the view's rotation since the last keyframe
 };
 
 struct KeyframeRuleOptions {
   int min_frames = 0;           // ORB-SLAM2 mMinFrames (0)
   int max_frames = 10;          // ORB-SLAM2 mMaxFrames = Camera.fps
   double tracked_ratio = 0.75;  // ORB-SLAM2 thRefRatio for stereo
+  // > 0: a keyframe once the view has turned this far (a drone's or hand-held camera's fast turns,
+  // where ORB-SLAM2's ratio waits until a third of the points have left the view); 0: off.
+  double max_rotation_deg = 0.0;
 };
 
 struct KeyframeDecision {
   bool c1a = false, c1b = false, c1c = false, c2 = false;
+  bool turned = false;  // max_rotation_deg reached (with enough inliers)
   bool insert = false;
 };
 

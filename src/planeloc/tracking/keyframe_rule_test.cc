@@ -74,5 +74,23 @@ TEST(KeyframeRule, NoKeyframeWithoutTheRatioCondition) {
   EXPECT_FALSE(DecideKeyframe(input, {}).insert);
 }
 
+// A camera that turns keeps most of its points in view for a while (the ratio holds) but sees its
+// keyframe's points at ever larger angles: with max_rotation_deg a keyframe comes when it has
+// turned that far, even while mapping is busy.
+TEST(KeyframeRule, ATurnBeyondMaxRotationInserts) {
+  KeyframeRuleInput input = Moderate(2, /*mapping_idle=*/false);
+  input.inliers = 190;  // the ratio alone would not insert
+  input.rotation_since_keyframe_deg = 9.0;
+  KeyframeRuleOptions options;
+  EXPECT_FALSE(DecideKeyframe(input, options).insert);  // off by default
+  options.max_rotation_deg = 10.0;
+  EXPECT_FALSE(DecideKeyframe(input, options).insert);
+  input.rotation_since_keyframe_deg = 10.0;
+  EXPECT_TRUE(DecideKeyframe(input, options).turned);
+  EXPECT_TRUE(DecideKeyframe(input, options).insert);
+  input.inliers = 15;  // never from a frame tracked this weakly
+  EXPECT_FALSE(DecideKeyframe(input, options).insert);
+}
+
 }  // namespace
 }  // namespace planeloc

@@ -29,6 +29,8 @@ void OdometryOptions::Check() const {
   Require(keyframe_tracked_ratio > 0 && keyframe_tracked_ratio <= 1,
           "keyframe_tracked_ratio must be in (0, 1]");
   Require(keyframe_min_frames >= 0, "keyframe_min_frames must be >= 0");
+  Require(keyframe_max_rotation_deg >= 0 && keyframe_max_rotation_deg <= 180,
+          "keyframe_max_rotation_deg must be in [0, 180] (0: off)");
   Require(keyframe_min_close_tracked >= 0, "keyframe_min_close_tracked must be >= 0");
   Require(keyframe_min_close_untracked >= 0, "keyframe_min_close_untracked must be >= 0");
   Require(min_new_stereo_points >= 0, "min_new_stereo_points must be >= 0");

@@ -39,6 +39,7 @@ struct OdometryOptions {
   // Keyframe decision (ORB-SLAM2 stereo rules, keyframe_rule.h).
   double keyframe_tracked_ratio = 0.75;   // tracked points vs the reference keyframe's
   int keyframe_min_frames = 0;            // frames after a keyframe before an idle mapper takes one
+  double keyframe_max_rotation_deg = 0;   // > 0: a keyframe once the view turned this far (rooms)
   int keyframe_min_close_tracked = 100;   // fewer tracked close points than this ...
   int keyframe_min_close_untracked = 70;  // ... while this many close points are unmatched
 
