@@ -2,7 +2,8 @@
 # Builds Release, runs every benchmark and rewrites docs/benchmarks.md (issue 12 item 4).
 #
 # Usage: scripts/bench.sh [--quick] [--fresh] [--no-build] [--drives "PRESET:SEED,... ..."]
-#                         [--no-robustness] [--no-map-lock] [--no-peers] [--no-mutants]
+#                         [--no-robustness] [--no-map-lock] [--no-peers] [--no-room]
+#                         [--no-mutants]
 #   --quick     under 5 minutes on a 2-core machine: the simulator's `tiny` drive (one seed) and a
 #               subset of the Google Benchmark programs with short minimum times
 #   (default)   every benchmark; `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2 (about an
@@ -17,6 +18,9 @@
 #               (scripts/bench_peers.sh: builds the peer once, then about 25 minutes)
 #               and issue 36's frame rate with and without the live view (scripts/bench_live_view.py,
 #               about 6 minutes)
+#   --no-room   the full mode without issue 35's indoor benchmark (scripts/bench_room.py: the
+#               room preset, seeds 1, 2, 3; about 35 minutes when its drives must be simulated,
+#               about 13 when they are cached in build/bench/data/room/)
 #   --no-mutants  the full mode without issue 37's mutation checks (scripts/mutants.sh
 #               --update-doc: each key mechanism broken in turn in a worktree of its own, the
 #               table in docs/reliability.md; about 60 minutes on 2 cores, most of it builds)
@@ -35,10 +39,12 @@ build=1
 peers=1
 mutants=1
 live_view=1
+room=1
 while [ $# -gt 0 ]; do
   case "$1" in
-    --quick) run_args+=(--quick); peers=0; mutants=0; live_view=0; shift ;;
+    --quick) run_args+=(--quick); peers=0; mutants=0; live_view=0; room=0; shift ;;
     --no-peers) peers=0; shift ;;
+    --no-room) room=0; shift ;;
     --no-mutants) mutants=0; shift ;;
     --fresh) run_args+=(--fresh); shift ;;
     --no-build) build=0; shift ;;
@@ -55,11 +61,15 @@ if [ "$build" = 1 ]; then
   PLANELOC_BUILD_DIR="$build_dir" "$root/scripts/build.sh"
 fi
 # A comparison from an earlier run never reaches this run's page.
-rm -f "$build_dir/bench/peers.json" "$build_dir/bench/live_view.json"
+rm -f "$build_dir/bench/peers.json" "$build_dir/bench/live_view.json" "$build_dir/bench/room.json"
 python3 "$root/scripts/bench_run.py" --build "$build_dir" --out "$build_dir/bench" "${run_args[@]}"
 if [ "$live_view" = 1 ]; then
   # Issue 36: fps with and without the live view (about 6 minutes).
   python3 "$root/scripts/bench_live_view.py" --build "$build_dir" --out "$build_dir/bench"
+fi
+if [ "$room" = 1 ]; then
+  # Issue 35: the room preset (about 35 minutes with its simulation, 13 when cached).
+  python3 "$root/scripts/bench_room.py" --build "$build_dir" --out "$build_dir/bench/room.json"
 fi
 if [ "$peers" = 1 ]; then
   PLANELOC_BUILD_DIR="$build_dir" "$root/scripts/bench_peers.sh" --out "$build_dir/bench"

@@ -1,5 +1,6 @@
 """Number and Markdown formatting shared by scripts/bench_report.py and its sections."""
 import math
+import re
 import statistics
 
 
@@ -55,3 +56,21 @@ def spread(values, decimals):
 def mean_or_none(values):
     values = [v for v in values if v is not None]
     return statistics.fmean(values) if values else None
+
+
+def splice_section(doc_path, title, text, before="## Processes of the pipeline"):
+    """Replaces the section `title` (up to the next "## ") of the page at `doc_path` with `text`,
+    or inserts it before the section `before` (at the end when absent)."""
+    with open(doc_path) as f:
+        doc = f.read()
+    pattern = re.compile(re.escape(title) + r".*?(?=\n## |\Z)", re.S)
+    if pattern.search(doc):
+        doc = pattern.sub(lambda _: text.rstrip("\n") + "\n", doc, count=1)
+    else:
+        at = doc.find(before)
+        if at < 0:
+            doc = doc.rstrip("\n") + "\n\n" + text
+        else:
+            doc = doc[:at] + text.rstrip("\n") + "\n\n" + doc[at:]
+    with open(doc_path, "w") as f:
+        f.write(doc)

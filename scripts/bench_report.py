@@ -22,6 +22,8 @@ has one, a ratio of its result to a reference measured in the same run:
                 ablation of the association's settings, each against the defaults
   peers         issue 33 (RESULTS/peers.json, scripts/bench_peers.py; bench_report_peers.py): the
                 real ORB-SLAM2 beside planeloc's VO and plane mode on the same drives
+  room          issue 35 (RESULTS/room.json, scripts/bench_room.py; bench_report_room.py): the
+                indoor room preset, VO and plane mode, coarse starts, the goals met or not
   processes     every process of the pipeline: wall time, CPU time, peak RSS
   other         every other Google Benchmark result (no reference)
 
@@ -41,6 +43,7 @@ import sys
 import bench_report_map_lock
 import bench_report_peers
 import bench_report_live_view
+import bench_report_room
 import bench_report_wrong_maps
 from bench_format import cell, code, mean_or_none, num, ratio, spread, table
 
@@ -97,7 +100,8 @@ def load(results):
     out["gbench"] = load_gbench(results)
     out["results"] = results
     for key, name in (("robustness", "robustness.json"), ("map_lock", "maplock.json"),
-                      ("peers", "peers.json"), ("live_view", "live_view.json")):
+                      ("peers", "peers.json"), ("live_view", "live_view.json"),
+                      ("room", "room.json")):
         path = os.path.join(results, name)  # full mode only
         out[key] = None
         if os.path.exists(path):
@@ -489,6 +493,8 @@ def render(data):
         parts.append(bench_report_peers.section(data, tag))
     if data.get("live_view"):
         parts.append(bench_report_live_view.section(data["live_view"]))
+    if data.get("room"):
+        parts.append(bench_report_room.section(data["room"]))
     parts.append(
         "## Processes of the pipeline: time and peak RSS\n\n"
         "Peak RSS: `ru_maxrss` of the process (wait4). Simulator and map steps are cached under "

@@ -12,10 +12,9 @@ full bench.
 import argparse
 import json
 import os
-import re
 import sys
 
-from bench_format import code, table
+from bench_format import code, splice_section, table
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TITLE = "## Live view: frame rate while watched (issue 36)"
@@ -55,23 +54,6 @@ def section(live):
         + table(["run", "fps", "change", "measured"], rows))
 
 
-def splice(doc_path, text):
-    with open(doc_path) as f:
-        doc = f.read()
-    pattern = re.compile(re.escape(TITLE) + r".*?(?=\n## |\Z)", re.S)
-    if pattern.search(doc):
-        doc = pattern.sub(lambda _: text.rstrip("\n") + "\n", doc, count=1)
-    else:
-        anchor = "## Processes of the pipeline"
-        at = doc.find(anchor)
-        if at < 0:
-            doc = doc.rstrip("\n") + "\n\n" + text
-        else:
-            doc = doc[:at] + text.rstrip("\n") + "\n\n" + doc[at:]
-    with open(doc_path, "w") as f:
-        f.write(doc)
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--results", default=os.path.join(ROOT, "build", "bench"))
@@ -85,7 +67,7 @@ def main():
         print(f"bench_report_live_view.py: {path}: {e} (run scripts/bench_live_view.py first)",
               file=sys.stderr)
         return 2
-    splice(args.splice, section(live) + "\n")
+    splice_section(args.splice, TITLE, section(live) + "\n")
     print(f"wrote the live view section of {args.splice}")
     return 0
 

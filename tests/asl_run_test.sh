@@ -11,10 +11,7 @@ src="${2:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh"
-python=""
-for candidate in ${PLANELOC_PYTHON:-} python3 /usr/bin/python3; do
-  if command -v "$candidate" >/dev/null; then python="$candidate"; break; fi
-done
+find_python
 
 run_step sim "$planeloc" sim --out "$tmp/sim" --preset tiny --seed 1 --frames 30 --force
 seq="$tmp/sim/sequences/00"

@@ -63,6 +63,12 @@ expect_error "sim unknown preset" "bogus" -- "$planeloc" sim --out "$work/sim" -
 expect_error "sim zero frames" "frames" -- "$planeloc" sim --out "$work/sim0" --frames 0
 mkdir -p "$work/nonempty" && touch "$work/nonempty/file"
 expect_error "sim non-empty out" "nonempty" -- "$planeloc" sim --out "$work/nonempty" --preset tiny
+expect_error "sim room with a trajectory" "--trajectory" -- \
+  "$planeloc" sim --out "$work/simr" --preset room --trajectory "$work/gt.txt"
+expect_error "sim room with changes" "--changes" -- \
+  "$planeloc" sim --out "$work/simr" --preset room --changes renovation
+expect_error "map planes --gt-min-area 0" "--gt-min-area" -- \
+  "$planeloc" map planes --map "$work/nope.ply" --out "$work/p.json" --gt-min-area 0
 
 expect_error "run missing sequence" "$work/nope" -- \
   "$planeloc" run --sequence "$work/nope" --no-planes --out "$work/t.txt"

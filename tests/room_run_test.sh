@@ -10,10 +10,7 @@ src="${2:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh"
-python=""
-for candidate in ${PLANELOC_PYTHON:-} python3 /usr/bin/python3; do
-  if command -v "$candidate" >/dev/null; then python="$candidate"; break; fi
-done
+find_python
 seed=7
 frames=150
 

@@ -1,4 +1,5 @@
-# Helpers of the shell tests (report_browser_test.sh, live_view_browser_test.sh, asl_run_test.sh):
+# Helpers of the shell tests (report_browser_test.sh, live_view_browser_test.sh, asl_run_test.sh,
+# room_run_test.sh):
 # sourced after the caller set `tmp` (a scratch folder) and, for `missing`, `skip_what` (what goes
 # unchecked when a component is missing). Sets `fail`; require_browser sets `chromium` and
 # `python` (the first python3 that imports PIL: a pyenv `python3` on PATH often lacks Debian's
@@ -31,4 +32,10 @@ require_browser() {  # sets chromium and python, or skips
     if "$candidate" -c "import PIL" 2>/dev/null; then python="$candidate"; break; fi
   done
   [ -n "$python" ] || missing "python3-pil"
+}
+find_python() {  # sets python: PLANELOC_PYTHON, else the first python3 on PATH, else Debian's
+  python=""
+  for candidate in ${PLANELOC_PYTHON:-} python3 /usr/bin/python3; do
+    if command -v "$candidate" >/dev/null; then python="$candidate"; break; fi
+  done
 }

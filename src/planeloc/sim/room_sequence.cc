@@ -4,7 +4,6 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <sstream>
 
@@ -74,13 +73,6 @@ void PrepareRoomOutput(const fs::path& out_dir, bool force) {
     CheckInput(!error, out_dir.string(), 0, "cannot create the output folder: " + error.message(),
                "choose a writable location for --out");
   }
-}
-
-void WritePng(const fs::path& path, const cv::Mat& image) {
-  std::vector<unsigned char> png;
-  CheckInput(cv::imencode(".png", image, png), path.string(), 0, "cannot encode the image",
-             "report this as a bug");
-  WriteFileWhole(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 void WriteRoomReadme(const fs::path& path, const SimOptions& o, const Scenario& s,

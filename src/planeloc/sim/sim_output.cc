@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 
 #include "planeloc/util/error.h"
@@ -84,6 +85,13 @@ void WritePoses(const std::filesystem::path& path, const std::vector<Rigid3d>& w
   std::string text;
   for (const auto& pose : world_from_cam) text += Row3x4(pose.Matrix3x4()) + '\n';
   WriteFileWhole(path, text);
+}
+
+void WritePng(const std::filesystem::path& path, const cv::Mat& image) {
+  std::vector<unsigned char> png;
+  CheckInput(cv::imencode(".png", image, png), path.string(), 0, "cannot encode the image",
+             "report this as a bug");
+  WriteFileWhole(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 void WriteScan(const std::filesystem::path& path, const VelodyneScan& scan) {

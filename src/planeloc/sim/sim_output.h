@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ void WriteCalib(const std::filesystem::path& path, const StereoCamera& camera,
                 const Eigen::Matrix<double, 3, 4>& cam_from_velo_3x4);
 void WriteTimes(const std::filesystem::path& path, int frames, double rate_hz);
 void WritePoses(const std::filesystem::path& path, const std::vector<Rigid3d>& world_from_cam);
+// PNG-encoded in memory and written whole: complete or absent, a failed write an InputError.
+void WritePng(const std::filesystem::path& path, const cv::Mat& image);
 // float32 little-endian x, y, z, reflectance per point.
 void WriteScan(const std::filesystem::path& path, const VelodyneScan& scan);
 // GT planes of `world` expressed in the output frame: {"planes":[{"id","kind","normal","d",

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <sstream>
 
@@ -210,14 +209,6 @@ void WriteReadme(const fs::path& path, const SimOptions& o, const Scenario& s) {
   out << "poses/00.txt and world/planes_gt.json share one frame: camera 0 at frame 0 "
          "(x right, y down, z forward).\n";
   WriteFileWhole(path, out.str());
-}
-
-// PNG-encoded in memory and written whole (util/safe_file.h): a full disk is an error.
-void WritePng(const fs::path& path, const cv::Mat& image) {
-  std::vector<unsigned char> png;
-  CheckInput(cv::imencode(".png", image, png), path.string(), 0, "cannot encode the image",
-             "report this as a bug");
-  WriteFileWhole(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 }  // namespace
