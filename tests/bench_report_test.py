@@ -227,5 +227,51 @@ class BenchReportTest(unittest.TestCase):
         self.assertEqual(page, "")
 
 
+class RoomReportTest(unittest.TestCase):
+    """scripts/bench_report_room.py on two seeds written here (its goals, issue 35 item 4 and
+    issue 30's exact start with the room's prior)."""
+
+    @staticmethod
+    def seed(number, vo, plane, prior):
+        run = lambda ate: {"ate": ate, "fps": 20.0, "lost": 0}
+        draw = {"k": 1, "locked_frame": 80, "final_lock": "locked", "ate_after_lock": 0.01,
+                "max_after_lock": 0.02, "wrong": False}
+        return {"seed": number, "path_length_m": 50.0, "gt_planes_checked": 20,
+                "gt_planes_good": 20, "planes": 25, "vo": run(vo), "plane": run(plane),
+                "prior": run(prior), "draws": [draw]}
+
+    def section(self, seeds):
+        sys.path.insert(0, os.path.join(HERE, "..", "scripts"))
+        import bench_report_room
+        room = {"date": "2026-12-05", "cpu": "Test CPU", "cpus": 2, "commit": "abc1234",
+                "frames": 600, "seeds": seeds}
+        return bench_report_room.section(room)
+
+    def goal(self, text):
+        return next(line for line in text.splitlines() if "room's prior" in line
+                    and line.startswith("| the exact start"))
+
+    def test_prior_within_bounds(self):
+        # seed 1: 0.011 / 0.010 = 1.10 of the exact start, 0.011 / 0.02 = 0.55 of VO; seed 2:
+        # 0.0125 / 0.0125 = 1.00, 0.0125 / 0.025 = 0.50. Worst: seed 1.
+        text = self.section([self.seed(1, 0.02, 0.010, 0.011),
+                             self.seed(2, 0.025, 0.0125, 0.0125)])
+        self.assertIn("| 1 | 50.0 | 20/20 (100 %) | 25 | 0.020 | 0.010 | 0.50 | 0.011 | 1.10 |", text)
+        self.assertIn("worst seed: 1.10× the exact start, 0.55× VO | **met** |", self.goal(text))
+
+    def test_prior_above_the_exact_start_or_vo(self):
+        # seed 2: 0.02 / 0.0125 = 1.60 of the exact start (and 0.02 / 0.018 = 1.11 of VO).
+        text = self.section([self.seed(1, 0.02, 0.010, 0.010), self.seed(2, 0.018, 0.0125, 0.02)])
+        self.assertIn("worst seed: 1.60× the exact start, 1.11× VO | **not met** |",
+                      self.goal(text))
+
+    def test_old_results_without_the_prior(self):
+        seed = self.seed(1, 0.02, 0.010, 0.010)
+        del seed["prior"]
+        text = self.section([seed])
+        self.assertIn("| 0.020 | 0.010 | 0.50 | — | — |", text)
+        self.assertIn("not measured on every seed | **not met** |", self.goal(text))
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -248,11 +248,18 @@ TEST(SettingsTest, ReadsPlanelocKeysWithoutHeaderNestedMapsAndFlags) {
 
   // Map-lock keys reach the locker's options (nested registration thresholds included).
   const SettingsFile lock = LoadTrackerSettings(
-      WriteFile(dir, "%YAML:1.0\nMapLock.settleKeyframes: 12\nMapLock.maxTiltSigmaDeg: 0.8\n"),
+      WriteFile(dir,
+                "%YAML:1.0\nMapLock.settleKeyframes: 12\nMapLock.maxTiltSigmaDeg: 0.8\n"
+                "MapLock.mapSigma: 0.01\nMapLock.outlineMargin: 0.1\n"),
       TrackerOptions{});
   EXPECT_EQ(lock.options.map_lock.settle_keyframes, 12);
   EXPECT_DOUBLE_EQ(lock.options.map_lock.registration.max_tilt_sigma_deg, 0.8);
+  EXPECT_DOUBLE_EQ(lock.options.map_lock.registration.map_sigma, 0.01);
+  EXPECT_DOUBLE_EQ(lock.options.map_lock.registration.outline_margin, 0.1);
   EXPECT_THROW(LoadTrackerSettings(WriteFile(dir, "%YAML:1.0\nMapLock.settleKeyframes: -1\n"),
+                                   TrackerOptions{}),
+               InputError);
+  EXPECT_THROW(LoadTrackerSettings(WriteFile(dir, "%YAML:1.0\nMapLock.outlineMargin: 0\n"),
                                    TrackerOptions{}),
                InputError);
 
