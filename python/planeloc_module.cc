@@ -401,8 +401,9 @@ void DefineSim(py::module_& m) {
       },
       py::arg("out"), py::arg("preset") = "tiny", py::arg("seed") = 1,
       py::arg("frames") = std::nullopt,
-      "Writes a synthetic KITTI-layout drive into `out` (replacing it): returns the paths of "
-      "the sequence, its GT poses and its GT planes, and the frame count.");
+      "Writes a synthetic sequence into `out` (replacing it): a street preset (tiny, small, "
+      "kitti07-like) in the KITTI layout, `room` in the ASL/EuRoC layout (docs/sim.md). Returns "
+      "the paths of the sequence, its GT poses and its GT planes, and the frame count.");
 }
 
 }  // namespace
