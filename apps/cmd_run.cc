@@ -303,6 +303,14 @@ void LogPlaneMapSummary(const RunSummary& summary, const RunOptions& options,
         RotationAngle(event.map_from_world.rotation, Eigen::Quaterniond::Identity()) * 180.0 /
             std::numbers::pi);
   }
+  if (!options.start_prior.Exact() && summary.lock_attempts > 0) {
+    std::string reasons;
+    for (const auto& [reason, count] : summary.lock_refusals) {
+      reasons += fmt::format("{}{} ({}x)", reasons.empty() ? "" : "; ", reason, count);
+    }
+    spdlog::info("map lock: {} registration attempts before the lock{}{}", summary.lock_attempts,
+                 reasons.empty() ? "" : "; not applied: ", reasons);
+  }
   if (!options.start_prior.Exact()) {
     if (summary.final_map_lock == "searching") {
       spdlog::warn(

@@ -516,6 +516,10 @@ RunSummary RunSequence(const RunOptions& run) {
   summary.ba = tracker.ba_counts();
   summary.lock_events = tracker.lock_events();
   if (plane_map) summary.final_map_lock = MapLockName(tracker.map_lock());
+  summary.lock_attempts = tracker.lock_attempts();
+  for (const auto& refusal : tracker.lock_refusals()) summary.lock_refusals.push_back(refusal);
+  std::stable_sort(summary.lock_refusals.begin(), summary.lock_refusals.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   SummarizeFrames(summary);
@@ -567,6 +571,15 @@ std::string RunSummary::ToJson() const {
     for (const auto& [status, count] : map_update_counts) {
       json += fmt::format("{}\"{}\":{}", first ? "" : ",", status, count);
       first = false;
+    }
+    json += "}}";
+  }
+  if (!final_map_lock.empty()) {
+    json.pop_back();
+    json += fmt::format(",\"lock_attempts\":{},\"lock_refusals\":{{", lock_attempts);
+    for (std::size_t i = 0; i < lock_refusals.size(); ++i) {
+      json += fmt::format("{}{}:{}", i ? "," : "", nlohmann::json(lock_refusals[i].first).dump(),
+                          lock_refusals[i].second);
     }
     json += "}}";
   }

@@ -87,8 +87,12 @@ struct RunSummary {
   std::vector<Rigid3d> world_from_cam;  // per frame, as written
   std::vector<LockEvent> lock_events;   // map-frame corrections, in order
   std::string final_map_lock;           // "" without a plane map
-  TrackerOptions options;               // effective
-  StereoCamera camera;                  // effective (sequence or settings calibration)
+  // Registration attempts before the lock, and the reasons of those that changed nothing with
+  // their counts, most frequent first (Tracker::lock_refusals).
+  int lock_attempts = 0;
+  std::vector<std::pair<std::string, int>> lock_refusals;
+  TrackerOptions options;  // effective
+  StereoCamera camera;     // effective (sequence or settings calibration)
   // The LSD crease check (crease_check.h) over the checked keyframes: their number, the mean
   // visible and confirmed creases and the median of their median edge distances (px).
   int crease_keyframes = 0;

@@ -92,6 +92,12 @@ class Tracker {
   const std::vector<LockEvent>& lock_events() const { return lock_events_; }
   // kLocked without a plane map.
   MapLock map_lock() const { return locker_ ? locker_->state() : MapLock::kLocked; }
+  // Registration attempts before the lock and why those that changed nothing did not
+  // (MapLocker::refusals); none without a plane map.
+  int lock_attempts() const { return locker_ ? locker_->attempts_before_lock() : 0; }
+  std::map<std::string, int> lock_refusals() const {
+    return locker_ ? locker_->refusals() : std::map<std::string, int>{};
+  }
   const OrbExtractor& extractor() const { return extractor_; }
   const BaCounts& ba_counts() const { return ba_counts_; }
   // Map moves by the planes' consensus on the trajectory's offset (Planes.trajectoryConsensus).

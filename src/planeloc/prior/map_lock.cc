@@ -179,7 +179,29 @@ void MapLocker::Run(RegistrationJob& job) const {
   }
 }
 
+std::string ReasonCategory(const std::string& reason) {
+  const std::string refused = "refused: ";
+  if (reason.rfind(refused, 0) == 0) {
+    const std::size_t in = reason.find(" in ");
+    const std::size_t end = reason.find(" (", in == std::string::npos ? 0 : in);
+    return in == std::string::npos ? "refused"
+                                   : "refused: beyond the gate" + reason.substr(in, end - in);
+  }
+  return reason.substr(0, reason.find(" ("));
+}
+
 std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLocker::Finish(
+    RegistrationJob job) {
+  auto finished = FinishAttempt(std::move(job));
+  if (finished && !finished->first.maintenance && finished->first.lock_before != MapLock::kLocked) {
+    ++attempts_before_lock_;
+    const std::string& reason = finished->first.result.reason;
+    if (!finished->first.applied) ++refusals_[reason.empty() ? "unknown" : ReasonCategory(reason)];
+  }
+  return finished;
+}
+
+std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> MapLocker::FinishAttempt(
     RegistrationJob job) {
   if (!job.result) return std::nullopt;
   RegistrationReport report;

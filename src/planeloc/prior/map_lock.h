@@ -12,6 +12,7 @@
 // current segment, which a later correction or a loss never touches twice.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -88,11 +89,17 @@ class MapLocker {
   // std::nullopt for a job without result, or of a segment that a loss has ended since.
   std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> Finish(
       RegistrationJob job);
+  // Attempts finished before the run was locked (maintenance excluded), and why those that
+  // changed nothing did not: each reason in its category (numbers left out), with its count.
+  int attempts_before_lock() const { return attempts_before_lock_; }
+  const std::map<std::string, int>& refusals() const { return refusals_; }
   // Tracking was lost and the map re-initialized at `world_from_cam` (the motion model's pose):
   // the next keyframe starts a new segment, searched with an inflated prior.
   void OnLoss(const Rigid3d& world_from_cam, int next_keyframe_id);
 
  private:
+  std::optional<std::pair<RegistrationReport, std::optional<MapCorrection>>> FinishAttempt(
+      RegistrationJob job);
   RegistrationPrior CurrentPrior(const Eigen::Vector3d& camera_in_world) const;
   // Whether a re-registration's correction is beyond what the window BA pulls back.
   bool SignificantRecorrection(const RegistrationResult& result,
@@ -108,6 +115,13 @@ class MapLocker {
   int segment_ = 0;
   int segment_first_keyframe_ = 0;
   int keyframes_since_attempt_ = 0;
+  int attempts_before_lock_ = 0;
+  std::map<std::string, int> refusals_;
 };
+
+// A registration's reason without its numbers, to count reasons over a run: "few points on
+// planes (12 of 300)" -> "few points on planes"; "refused: 3.4 sigma from the current estimate in
+// lateral (limit 3.0)" -> "refused: beyond the gate in lateral".
+std::string ReasonCategory(const std::string& reason);
 
 }  // namespace planeloc

@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "planeloc/prior/street_for_test.h"
 #include "planeloc/util/error.h"
 
@@ -16,6 +21,47 @@ StartPrior Gnss(double horizontal) {
   prior.sigma_vertical = 0.5;
   prior.sigma_yaw_deg = 5.0;
   return prior;
+}
+
+// A finished attempt that found no lock, as the registration reports one.
+RegistrationJob Refused(const std::string& reason, int keyframe_id) {
+  RegistrationJob job;
+  job.keyframe_id = keyframe_id;
+  RegistrationResult result;
+  result.lock = MapLock::kSearching;
+  result.reason = reason;
+  job.result = result;
+  return job;
+}
+
+TEST(MapLockerTest, CountsWhyTheAttemptsBeforeTheLockChangedNothing) {
+  MapLocker locker(Street(false), MapLockOptions{}, Gnss(2.0), Rigid3d{});
+  for (const auto& [reason, id] :
+       std::vector<std::pair<std::string, int>>{{"few points on planes (12 of 300)", 2},
+                                                {"the planes in view do not constrain roll", 4},
+                                                {"few points on planes (40 of 410)", 6}}) {
+    const auto finished = locker.Finish(Refused(reason, id));
+    ASSERT_TRUE(finished.has_value());
+    EXPECT_FALSE(finished->first.applied);
+  }
+  EXPECT_EQ(locker.state(), MapLock::kSearching);
+  EXPECT_EQ(locker.attempts_before_lock(), 3);
+  const std::map<std::string, int> expected = {{"few points on planes", 2},
+                                               {"the planes in view do not constrain roll", 1}};
+  EXPECT_EQ(locker.refusals(), expected);
+  // An exact start is locked from the start: nothing to count.
+  MapLocker exact(Street(false), MapLockOptions{}, StartPrior{}, Rigid3d{});
+  exact.Finish(Refused("few points on planes (1 of 2)", 2));
+  EXPECT_EQ(exact.attempts_before_lock(), 0);
+  EXPECT_TRUE(exact.refusals().empty());
+}
+
+TEST(MapLockerTest, ReasonCategoriesLeaveOutTheNumbers) {
+  EXPECT_EQ(ReasonCategory("too little structure (80 points, need 150)"), "too little structure");
+  EXPECT_EQ(ReasonCategory("refused: 3.4 sigma from the current estimate in lateral (limit 3.0)"),
+            "refused: beyond the gate in lateral");
+  EXPECT_EQ(ReasonCategory("ambiguous: a distinct hypothesis fits almost as well"),
+            "ambiguous: a distinct hypothesis fits almost as well");
 }
 
 TEST(StartPriorWarningTest, AStartInTheMapIsQuiet) {
