@@ -303,15 +303,15 @@ void LogPlaneMapSummary(const RunSummary& summary, const RunOptions& options,
         RotationAngle(event.map_from_world.rotation, Eigen::Quaterniond::Identity()) * 180.0 /
             std::numbers::pi);
   }
-  if (!options.start_prior.Exact() && summary.lock_attempts > 0) {
+  if (!options.start_prior.Exact()) {
     std::string reasons;
     for (const auto& [reason, count] : summary.lock_refusals) {
       reasons += fmt::format("{}{} ({}x)", reasons.empty() ? "" : "; ", reason, count);
     }
-    spdlog::info("map lock: {} registration attempts before the lock{}{}", summary.lock_attempts,
-                 reasons.empty() ? "" : "; not applied: ", reasons);
-  }
-  if (!options.start_prior.Exact()) {
+    if (summary.lock_attempts > 0) {
+      spdlog::info("map lock: {} registration attempts before the lock{}{}", summary.lock_attempts,
+                   reasons.empty() ? "" : "; not applied: ", reasons);
+    }
     if (summary.final_map_lock == "searching") {
       spdlog::warn(
           "{}: the run never registered itself to the plane map (map lock: searching); the "

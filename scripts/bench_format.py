@@ -1,7 +1,13 @@
 """Number and Markdown formatting shared by scripts/bench_report.py and its sections."""
+import argparse
+import json
 import math
+import os
 import re
 import statistics
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def num(x, decimals=None):
@@ -74,3 +80,24 @@ def splice_section(doc_path, title, text, before="## Processes of the pipeline")
             doc = doc[:at] + text.rstrip("\n") + "\n\n" + doc[at:]
     with open(doc_path, "w") as f:
         f.write(doc)
+
+
+def splice_report_main(description, results_name, producer, title, section, what):
+    """The main of a report that renders one section from RESULTS/results_name and splices it into
+    docs/benchmarks.md (--splice): 2 with the reason when the results cannot be read."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--results", default=os.path.join(ROOT, "build", "bench"))
+    parser.add_argument("--splice", default=os.path.join(ROOT, "docs", "benchmarks.md"))
+    args = parser.parse_args()
+    path = os.path.join(args.results, results_name)
+    try:
+        with open(path) as f:
+            results = json.load(f)
+    except (OSError, ValueError) as e:
+        print(f"{os.path.basename(sys.argv[0])}: {path}: {e} (run scripts/{producer} first)",
+              file=sys.stderr)
+        return 2
+    splice_section(args.splice, title, section(results) + "\n")
+    print(f"wrote the {what} section of {args.splice}")
+    return 0
+

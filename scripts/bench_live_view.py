@@ -34,6 +34,8 @@ import sys
 import tempfile
 import time
 
+from bench_run import cpu_model, tree_commit
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MODES = ["off", "view", "stalled", "browser"]
 
@@ -124,12 +126,7 @@ def main():
     args = parser.parse_args()
     out = args.out or os.path.join(args.build, "bench")
     planeloc = os.path.join(args.build, "bin", "planeloc")
-    # The tree as the binary was built (before the runs).
-    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip()
-    if subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"],
-                      capture_output=True, text=True).stdout.strip():
-        commit += "+"  # the tree had uncommitted changes
+    commit = tree_commit("+")
     modes = MODES if chromium_binary() else [m for m in MODES if m != "browser"]
     data = os.path.join(out, "data", f"live-{args.preset}-{args.seed}-{args.frames}")
     seq, poses, planes = prepare(planeloc, data, args.preset, args.seed, args.frames)
@@ -140,14 +137,8 @@ def main():
         for m in modes:
             rows[m].append(one_run(planeloc, seq, poses, planes, m, work))
             print(f"round {r + 1}/{args.rounds} {m}: {rows[m][-1]['fps']:.1f} fps", flush=True)
-    cpu = "unknown"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = re.search(r"model name\s*:\s*(.*)", f.read()).group(1)
-    except (OSError, AttributeError):
-        pass
     result = {
-        "date": datetime.date.today().isoformat(), "commit": commit, "cpu": cpu,
+        "date": datetime.date.today().isoformat(), "commit": commit, "cpu": cpu_model(),
         "cpus": os.cpu_count(), "host": platform.node(), "rounds": args.rounds,
         "drive": f"{args.preset} seed {args.seed}, {args.frames} frames",
         "command": f"scripts/bench_live_view.py --preset {args.preset} --seed {args.seed} "

@@ -9,14 +9,10 @@ scripts/bench_report.py includes it when build/bench/live_view.json exists. Run 
 docs/benchmarks.md, so that the live view's benchmark can be measured without the hour of the
 full bench.
 """
-import argparse
-import json
-import os
 import sys
 
-from bench_format import code, splice_section, table
+from bench_format import code, splice_report_main, table
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TITLE = "## Live view: frame rate while watched (issue 36)"
 GOAL = 0.05  # |fps with --view / fps without - 1|
 ROW_NAMES = {
@@ -55,21 +51,8 @@ def section(live):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--results", default=os.path.join(ROOT, "build", "bench"))
-    parser.add_argument("--splice", default=os.path.join(ROOT, "docs", "benchmarks.md"))
-    args = parser.parse_args()
-    path = os.path.join(args.results, "live_view.json")
-    try:
-        with open(path) as f:
-            live = json.load(f)
-    except (OSError, ValueError) as e:
-        print(f"bench_report_live_view.py: {path}: {e} (run scripts/bench_live_view.py first)",
-              file=sys.stderr)
-        return 2
-    splice_section(args.splice, TITLE, section(live) + "\n")
-    print(f"wrote the live view section of {args.splice}")
-    return 0
+    return splice_report_main(__doc__.split("\n\n")[0], "live_view.json", "bench_live_view.py", TITLE, section,
+                              "live view")
 
 
 if __name__ == "__main__":

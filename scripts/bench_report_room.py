@@ -1,23 +1,20 @@
 #!/usr/bin/env python3
 """The section "Indoors: the room preset" of docs/benchmarks.md (issue 35), from the room.json of
 scripts/bench_room.py: per seed the plane map's recall of the GT planes, visual odometry and plane
-mode from the exact start, the coarse starts' map lock, and the goals of issue 35 item 4, each met
-or not met as the data says.
+mode from the exact start, that start given with the room's prior, the coarse starts' map lock,
+and the goals of issues 35 (item 4) and 30 (the room's default start), each met or not met as the
+data says.
 
 scripts/bench_report.py includes it when build/bench/room.json exists. Run alone with --splice, it
 replaces (or adds, before "## Processes of the pipeline") this section of an existing
 docs/benchmarks.md, so that the room's benchmark can be measured without the hour of the full
 bench.
 """
-import argparse
-import json
-import os
 import statistics
 import sys
 
-from bench_format import code, num, splice_section, table
+from bench_format import code, num, splice_report_main, table
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TITLE = "## Indoors: the room preset (issue 35)"
 # Issue 35 item 4.
 ATE_RATIO, ATE_MAX, RECALL = 0.5, 0.03, 0.95
@@ -174,21 +171,8 @@ def section(room):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--results", default=os.path.join(ROOT, "build", "bench"))
-    parser.add_argument("--splice", default=os.path.join(ROOT, "docs", "benchmarks.md"))
-    args = parser.parse_args()
-    path = os.path.join(args.results, "room.json")
-    try:
-        with open(path) as f:
-            room = json.load(f)
-    except (OSError, ValueError) as e:
-        print(f"bench_report_room.py: {path}: {e} (run scripts/bench_room.py first)",
-              file=sys.stderr)
-        return 2
-    splice_section(args.splice, TITLE, section(room) + "\n")
-    print(f"wrote the room section of {args.splice}")
-    return 0
+    return splice_report_main(__doc__.split("\n\n")[0], "room.json", "bench_room.py", TITLE, section,
+                              "room")
 
 
 if __name__ == "__main__":

@@ -39,6 +39,8 @@ import time
 
 import numpy as np
 
+from bench_run import cpu_model, tree_commit
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PRESET_FRAMES = 600  # the room preset's
 OFFSET_M, YAW_DEG = 0.5, 10.0  # the coarse start's draw
@@ -225,12 +227,7 @@ def main():
     work = args.work or os.path.join(args.build, "bench", "data", "room")
     planeloc = os.path.join(args.build, "bin", "planeloc")
     seeds = [int(s) for s in args.seeds.split(",") if s.strip()]
-    # The tree as the binary was built (before the runs).
-    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip()
-    if subprocess.run(["git", "-C", ROOT, "status", "--porcelain"], capture_output=True,
-                      text=True).stdout.strip():
-        commit += "-dirty"
+    commit = tree_commit("-dirty")
     os.makedirs(work, exist_ok=True)
     results = []
     for seed in seeds:
@@ -239,14 +236,8 @@ def main():
         except (RuntimeError, OSError, ValueError, KeyError) as e:  # no drive or no plane map
             print(f"seed {seed}: {e}", file=sys.stderr)
             results.append({"seed": seed, "error": str(e)})
-    cpu = "unknown"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = re.search(r"model name\s*:\s*(.*)", f.read()).group(1)
-    except (OSError, AttributeError):
-        pass
     result = {
-        "date": datetime.date.today().isoformat(), "commit": commit, "cpu": cpu,
+        "date": datetime.date.today().isoformat(), "commit": commit, "cpu": cpu_model(),
         "cpus": os.cpu_count(), "frames": args.frames,
         "command": f"scripts/bench_room.py --seeds {','.join(map(str, seeds))} "
                    f"--frames {args.frames} --draws {args.draws}",

@@ -129,6 +129,13 @@ def git(*args):
         return ""
 
 
+def tree_commit(dirty_marker):
+    """HEAD's short hash, with `dirty_marker` appended when tracked files differ from it: the tree
+    the binary was built from, read before a benchmark's runs."""
+    commit = git("rev-parse", "--short", "HEAD")
+    return commit + dirty_marker if git("status", "--porcelain", "--untracked-files=no") else commit
+
+
 def cpu_model():
     try:
         with open("/proc/cpuinfo") as f:

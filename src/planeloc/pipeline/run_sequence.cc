@@ -517,7 +517,8 @@ RunSummary RunSequence(const RunOptions& run) {
   summary.lock_events = tracker.lock_events();
   if (plane_map) summary.final_map_lock = MapLockName(tracker.map_lock());
   summary.lock_attempts = tracker.lock_attempts();
-  for (const auto& refusal : tracker.lock_refusals()) summary.lock_refusals.push_back(refusal);
+  const std::map<std::string, int> refusals = tracker.lock_refusals();
+  summary.lock_refusals.assign(refusals.begin(), refusals.end());
   std::stable_sort(summary.lock_refusals.begin(), summary.lock_refusals.end(),
                    [](const auto& a, const auto& b) { return a.second > b.second; });
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
