@@ -47,6 +47,8 @@ struct RunArgs {
   bool no_planes = false;
   bool realtime = false;
   std::string planes;
+  std::string map_cloud;
+  std::string prior;  // planes | depth | hybrid; "" = by the maps given
   std::string init_sigma;
   std::string out;
   std::string format = "kitti";
@@ -160,15 +162,43 @@ void ServeUntilInterrupted(const view::LiveView& live) {
 }
 #endif
 
+// --prior, or the mode the maps given imply: planes with --planes, depth with --map-cloud alone.
+std::string PriorMode(const RunArgs& args) {
+  if (!args.prior.empty()) return args.prior;
+  if (!args.map_cloud.empty() && args.planes.empty()) return "depth";
+  return args.planes.empty() ? "" : "planes";
+}
+
 // The flags' values and combinations, and the outputs' folders, before any work.
 void CheckRunArgs(const RunArgs& args) {
   CheckInput(args.sequence.empty() != args.bag.empty(), "", 0,
              args.bag.empty() ? "no input given" : "--sequence and --bag given together",
              "pass either --sequence (a KITTI-layout folder) or --bag (a ROS 1 bag)");
-  if (args.planes.empty() && !args.no_planes) {
-    throw InputError("", 0, "no plane map given",
-                     "pass --planes planes.json (from `planeloc map planes`) or --no-planes "
-                     "(visual odometry only)");
+  if (args.planes.empty() && args.map_cloud.empty() && !args.no_planes) {
+    throw InputError("", 0, "no prior map given",
+                     "pass --planes planes.json (from `planeloc map planes`), --map-cloud map.pcd "
+                     "(the depth prior) or --no-planes (visual odometry only)");
+  }
+  const std::string prior = PriorMode(args);
+  if (prior == "hybrid") {
+    throw InputError("", 0, "--prior hybrid is not available in this version",
+                     "use --prior planes (with --planes) or --prior depth (with --map-cloud)");
+  }
+  if (prior == "depth") {
+    CheckInput(!args.map_cloud.empty(), "", 0, "--prior depth needs the LiDAR map cloud",
+               "add --map-cloud map.pcd (from `planeloc map build`)");
+    CheckInput(args.planes.empty(), args.planes, 0,
+               "--prior depth uses the map cloud alone; the plane map would be ignored",
+               "drop --planes, or use --prior planes");
+    CheckInput(!args.no_planes, "", 0, "--no-planes and --map-cloud given together",
+               "drop --no-planes to use the depth prior, or --map-cloud for visual odometry");
+  }
+  if (prior == "planes") {
+    CheckInput(!args.planes.empty(), "", 0, "--prior planes needs a plane map",
+               "add --planes planes.json (from `planeloc map planes`), or use --prior depth");
+    CheckInput(args.map_cloud.empty(), args.map_cloud, 0,
+               "--prior planes uses the plane map alone; the map cloud would be ignored",
+               "drop --map-cloud, or use --prior depth without --planes");
   }
   CheckFlag(args.threads >= 0 && args.threads <= 1024, "--threads", args.threads,
             "a thread count from 0 to 1024 (0 = the settings' default of 2)", "e.g. --threads 2");
@@ -197,6 +227,7 @@ void CheckRunArgs(const RunArgs& args) {
                     {"the settings echo (--out + .config.yaml)", args.out + ".config.yaml"}},
                    {{"--init-pose-from", args.init_pose_from},
                     {"--planes", args.planes},
+                    {"--map-cloud", args.map_cloud},
                     {"--config", args.config},
                     {"--bag", args.bag},
                     {"--gt", args.gt}});
@@ -238,12 +269,18 @@ RunOptions MakeRunOptions(const RunArgs& args) {
   options.calibration_from_settings = args.calib_from_settings;
   if (!args.planes.empty()) options.planes_path = args.planes;
   if (!args.map_update.empty()) options.map_update_path = args.map_update;
+  if (!args.map_cloud.empty()) options.map_cloud_path = args.map_cloud;
   if (!args.init_sigma.empty() && args.no_planes) {
     spdlog::warn(
         "--init-sigma is used only with --planes: visual odometry runs in the frame of "
         "the initial pose");
   }
-  if (!args.no_planes) {
+  if (!args.init_sigma.empty() && options.map_cloud_path) {
+    spdlog::warn(
+        "--init-sigma is used only with --planes (the map lock): the depth prior starts from the "
+        "initial pose as given and refines it frame by frame (docs/depth-prior.md)");
+  }
+  if (options.planes_path) {
     // A GNSS-like start by default: the run finds its pose in the plane map.
     options.start_prior = ParseInitSigma(args.init_sigma.empty() ? "2 0.5 5" : args.init_sigma);
   }
@@ -348,6 +385,12 @@ int Run(const RunArgs& args) {
   const RunSummary summary = RunSequence(options);
   LogRunSummary(summary);
   if (options.planes_path) LogPlaneMapSummary(summary, options, args.planes);
+  if (options.map_cloud_path) {
+    spdlog::info(
+        "depth prior: {} of {} frames refined against the map cloud ({} points), {:.0f} map "
+        "points per refined frame",
+        summary.depth_frames, summary.frames, summary.map_cloud_points, summary.mean_depth_points);
+  }
   spdlog::info("trajectory: {}", args.out);
   const std::string input = args.bag.empty() ? args.sequence : args.bag;
   // A few skipped frames are bridged by the motion model; a trajectory mostly extrapolated is not
@@ -401,6 +444,14 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
       "--planes", args->planes,
       "Plane map (planes.json of `planeloc map planes`, in the frame of the initial pose)");
   no_planes->excludes(planes);
+  cmd->add_option("--map-cloud", args->map_cloud,
+                  "LiDAR map cloud (.pcd/.ply/.xyz, e.g. from `planeloc map build`, in the frame "
+                  "of the initial pose): each frame's pose is refined by the depth-to-map "
+                  "residual of dense stereo against the map (--prior depth; docs/depth-prior.md)");
+  cmd->add_option("--prior", args->prior,
+                  "planes | depth | hybrid: which prior map constrains the pose. Default: planes "
+                  "with --planes, depth with --map-cloud alone (hybrid is not available yet)")
+      ->check(CLI::IsMember({"planes", "depth", "hybrid"}));
   cmd->add_option("--init-sigma", args->init_sigma,
                   "\"S_XY S_Z S_YAW_DEG\": how well the initial pose is known in the plane map "
                   "(metres horizontal, metres vertical, degrees of heading; roll and pitch come "

@@ -74,10 +74,14 @@ DenseDisparity ComputeDenseDisparity(const cv::Mat& left, const cv::Mat& right,
   // SGBM's disparity count must be a multiple of 16 at the resolution it runs on.
   const int num_disparities = ((options.max_disparity / options.downsample + 15) / 16) * 16;
   const int area = options.block_size * options.block_size;
+  // All eight path directions (MODE_HH): the single-pass five-direction mode has no path from
+  // below, and on the road, whose disparity grows down the image, its paths from the rows above
+  // pull every pixel towards smaller disparities: -1.1 px on the road of `small` seed 3 against
+  // -0.2 to -0.5 px with eight (docs/depth-prior.md).
   cv::Ptr<cv::StereoSGBM> sgbm = cv::StereoSGBM::create(
       /*minDisparity=*/0, num_disparities, options.block_size, /*P1=*/8 * area, /*P2=*/32 * area,
       /*disp12MaxDiff=*/1, /*preFilterCap=*/31, options.uniqueness_ratio,
-      /*speckleWindowSize=*/100, /*speckleRange=*/2, cv::StereoSGBM::MODE_SGBM);
+      /*speckleWindowSize=*/100, /*speckleRange=*/2, cv::StereoSGBM::MODE_HH);
   cv::Mat fixed_point;  // CV_16S, 4 fractional bits
   sgbm->compute(small_left, small_right, fixed_point);
 

@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "planeloc/features/dense_stereo.h"
 #include "planeloc/features/orb_extractor.h"
 #include "planeloc/geometry/camera.h"
 
@@ -28,6 +29,8 @@ struct StereoFeatures {
   std::vector<float> depth;      // metres along the left camera z, -1 if none
   std::vector<int> right_index;  // matched right keypoint (descriptor match), -1 if none
   int num_right_keypoints = 0;
+  // Dense disparity of the pair, when the run asks for one (the depth prior); empty otherwise.
+  DenseDisparity dense;
   int num_stereo_matches() const;
 };
 

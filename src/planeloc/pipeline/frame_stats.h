@@ -52,6 +52,10 @@ struct FrameStats {
   // Plane mode: the map moved by this (metres, map frame) because the planes agreed that the
   // trajectory sat off them (Planes.trajectoryConsensus).
   std::optional<Eigen::Vector3d> consensus_correction;
+  // Depth prior: map points whose depth residual refined the pose, and their median |residual|
+  // at the refined pose (level-0 pixels of disparity); absent when the frame kept its visual pose.
+  std::optional<int> depth_points;
+  std::optional<double> depth_residual_px;
   // Plane mode, keyframes after the map lock: the LSD check of the map's creases (crease_check.h).
   std::optional<CreaseCheckStats> crease_check;
   // One JSON object on one line (the --stats format).

@@ -21,6 +21,7 @@
 #include "planeloc/io/initial_pose.h"
 #include "planeloc/io/map_updates.h"
 #include "planeloc/io/plane_map.h"
+#include "planeloc/io/point_cloud.h"
 #include "planeloc/pipeline/keyframe_overlay.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/progress.h"
@@ -232,6 +233,10 @@ void SummarizeFrames(RunSummary& summary) {
     tracked_points += s.tracked_points;
     if (s.ba_median_reprojection_px) ba_medians.push_back(*s.ba_median_reprojection_px);
     if (s.planes_disabled) summary.planes_disabled = *s.planes_disabled;
+    if (s.depth_points) {
+      ++summary.depth_frames;
+      summary.mean_depth_points += *s.depth_points;
+    }
     if (s.consensus_correction) ++summary.consensus_corrections;
     if (s.crease_check) add_crease_check(*s.crease_check);
     if (s.ba_plane_residuals) {
@@ -240,6 +245,7 @@ void SummarizeFrames(RunSummary& summary) {
     }
   }
   if (bas > 0) summary.mean_ba_plane_residuals = plane_residuals / bas;
+  if (summary.depth_frames > 0) summary.mean_depth_points /= summary.depth_frames;
   if (summary.crease_keyframes > 0) {
     summary.mean_visible_creases /= summary.crease_keyframes;
     summary.mean_confirmed_creases /= summary.crease_keyframes;
@@ -343,11 +349,42 @@ class CalibrationSpeedCheck {
   bool done_ = false;
 };
 
+// The depth prior's map cloud must lie around the drive, in the frame of the initial pose. Over
+// the first tracked frames, a cloud that refined fewer than half of them is named in a warning
+// with the likely causes; the run goes on (as visual odometry where the cloud has nothing).
+class MapCloudCoverageCheck {
+ public:
+  explicit MapCloudCoverageCheck(std::string path) : path_(std::move(path)) {}
+
+  void Add(const FrameStats& stats) {
+    if (done_ || stats.skipped || stats.state == TrackingState::kLost || stats.frame == 0) return;
+    ++tracked_;
+    refined_ += stats.depth_points.has_value() ? 1 : 0;
+    if (tracked_ < kFrames) return;
+    done_ = true;
+    if (2 * refined_ >= tracked_) return;
+    spdlog::warn(
+        "{}: the depth prior refined only {} of the first {} tracked frames: the map cloud has "
+        "too few points in view with a stereo depth near theirs. Likely causes: the cloud does "
+        "not cover the drive, or is in another frame than the initial pose (--init-pose / "
+        "--init-pose-from), or the stereo sees mostly what the map lacks. Frames without enough "
+        "points keep their visual-odometry pose (depth_points in --stats).",
+        path_, refined_, tracked_);
+  }
+
+ private:
+  static constexpr int kFrames = 20;
+  std::string path_;
+  int tracked_ = 0, refined_ = 0;
+  bool done_ = false;
+};
+
 // Tracks frames [0, total) of the sequence, writing each pose and stats line as it comes.
 void TrackFrames(const StereoSource& sequence, std::size_t total,
                  const EffectiveSettings& effective, const std::string& calibration, bool realtime,
                  Tracker& tracker, TrajectoryWriter& writer, std::optional<OutputFile>& stats_out,
-                 std::optional<ProgressBar>& progress, RunObserver* observer, RunSummary& summary) {
+                 std::optional<ProgressBar>& progress, RunObserver* observer,
+                 MapCloudCoverageCheck* coverage, RunSummary& summary) {
   // Real-time replay: frame i arrives at its camera time after the first frame's.
   using Clock = std::chrono::steady_clock;
   const Clock::time_point replay_start = Clock::now();
@@ -438,6 +475,7 @@ void TrackFrames(const StereoSource& sequence, std::size_t total,
           std::chrono::duration<double, std::milli>(Clock::now() - arrival(i)).count();
     }
     if (stats_out) stats_out->Write(stats.ToJson() + '\n');
+    if (coverage) coverage->Add(stats);
     summary.stats.push_back(stats);
     summary.world_from_cam.push_back(result.world_from_cam);
     if (progress) progress->Update(i + 1);
@@ -496,8 +534,17 @@ RunSummary RunSequence(const RunOptions& run) {
   if (run.stats_path) stats_out.emplace(*run.stats_path, OutputFile::Mode::kIncremental);
   const std::size_t total =
       run.max_frames > 0 ? std::min<std::size_t>(run.max_frames, sequence.size()) : sequence.size();
+  std::shared_ptr<const MapCloudIndex> map_cloud;
+  if (run.map_cloud_path) {
+    PointCloudReadOptions read;
+    read.voxel_size = summary.options.depth.voxel_size;
+    map_cloud = std::make_shared<MapCloudIndex>(ReadPointCloud(*run.map_cloud_path, read).points);
+    summary.map_cloud_points = map_cloud->size();
+    spdlog::info("{}: {} points after the {:.2f} m voxel filter (DepthPrior.voxelSize)",
+                 run.map_cloud_path->string(), map_cloud->size(), read.voxel_size);
+  }
   Tracker tracker(summary.camera, summary.options, run.world_from_cam_initial,
-                  plane_map ? &*plane_map : nullptr, run.start_prior);
+                  plane_map ? &*plane_map : nullptr, run.start_prior, map_cloud);
   std::optional<ProgressBar> progress;
   if (run.show_progress) progress.emplace("run", total, "frames");
   const auto start = std::chrono::steady_clock::now();
@@ -507,8 +554,10 @@ RunSummary RunSequence(const RunOptions& run) {
     run.observer->OnStart(summary.camera, static_cast<int>(total),
                           plane_map ? &*plane_map : nullptr);
   }
+  std::optional<MapCloudCoverageCheck> coverage;
+  if (run.map_cloud_path) coverage.emplace(run.map_cloud_path->string());
   TrackFrames(sequence, total, effective, calibration, run.realtime, tracker, writer, stats_out,
-              progress, run.observer.get(), summary);
+              progress, run.observer.get(), coverage ? &*coverage : nullptr, summary);
   tracker.Finish();
   writer.Close();
   if (stats_out) stats_out->Commit();
@@ -574,6 +623,12 @@ std::string RunSummary::ToJson() const {
       first = false;
     }
     json += "}}";
+  }
+  if (map_cloud_points > 0) {
+    json.pop_back();
+    json +=
+        fmt::format(",\"map_cloud_points\":{},\"depth_frames\":{},\"mean_depth_points\":{:.1f}}}",
+                    map_cloud_points, depth_frames, mean_depth_points);
   }
   if (!final_map_lock.empty()) {
     json.pop_back();

@@ -42,6 +42,10 @@ struct RunOptions {
   // planes.json of `planeloc map planes`, in the frame of world_from_cam_initial; none: visual
   // odometry only (the baseline).
   std::optional<std::filesystem::path> planes_path;
+  // The LiDAR map cloud (.pcd/.ply/.xyz) in the frame of world_from_cam_initial: with it each
+  // frame's pose is refined by the depth-to-map residual (`--prior depth`, prior/depth_prior.h),
+  // from world_from_cam_initial as given (no map lock).
+  std::optional<std::filesystem::path> map_cloud_path;
   // How well world_from_cam_initial is known in the plane map's frame (--init-sigma); exact by
   // default. Unless exact, the run registers itself to the plane map (prior/map_lock.h).
   StartPrior start_prior;
@@ -78,8 +82,13 @@ struct RunSummary {
   int planes = 0;                        // planes in the plane map (0: visual only)
   double mean_ba_plane_residuals = 0;    // point-to-plane residuals a local BA, on average
   int planes_disabled = 0;               // planes disabled during the run (biased, see tracking)
-  int consensus_corrections = 0;         // map moves by the planes' consensus (trajectoryConsensus)
-  double seconds = 0;                    // wall time of the tracking loop
+  // Depth prior: points of the voxelized map cloud, frames whose pose the depth residual refined
+  // and the map points used per refined frame, on average.
+  std::size_t map_cloud_points = 0;
+  int depth_frames = 0;
+  double mean_depth_points = 0;
+  int consensus_corrections = 0;  // map moves by the planes' consensus (trajectoryConsensus)
+  double seconds = 0;             // wall time of the tracking loop
   // Real-time replay only: frame latency (arrival to pose) percentiles, milliseconds.
   std::optional<double> latency_p50_ms, latency_p99_ms, latency_max_ms;
   BaCounts ba;                          // what became of every keyframe's local BA

@@ -187,6 +187,18 @@ const std::vector<Key>& Keys() {
       D("MapUpdate.minOffset", [](O& o) -> double& { return o.map_update.min_offset; }),
       D("MapUpdate.minTiltDeg", [](O& o) -> double& { return o.map_update.min_tilt_deg; }),
       D("MapUpdate.chi2", [](O& o) -> double& { return o.map_update.chi2; }),
+      I("DepthPrior.downsample", [](O& o) -> int& { return o.depth.stereo.downsample; }),
+      I("DepthPrior.maxDisparity", [](O& o) -> int& { return o.depth.stereo.max_disparity; }),
+      I("DepthPrior.blockSize", [](O& o) -> int& { return o.depth.stereo.block_size; }),
+      D("DepthPrior.voxelSize", [](O& o) -> double& { return o.depth.voxel_size; }),
+      D("DepthPrior.maxRange", [](O& o) -> double& { return o.depth.max_range; }),
+      D("DepthPrior.minDepth", [](O& o) -> double& { return o.depth.min_depth; }),
+      D("DepthPrior.disparitySigma", [](O& o) -> double& { return o.depth.disparity_sigma; }),
+      D("DepthPrior.weight", [](O& o) -> double& { return o.depth.weight; }),
+      I("DepthPrior.sampleCell", [](O& o) -> int& { return o.depth.sample_cell; }),
+      I("DepthPrior.maxPoints", [](O& o) -> int& { return o.depth.max_points; }),
+      D("DepthPrior.occlusionMargin", [](O& o) -> double& { return o.depth.occlusion_margin; }),
+      D("DepthPrior.edgeTolerance", [](O& o) -> double& { return o.depth.edge_tolerance; }),
       B("System.deterministic", [](O& o) -> bool& { return o.deterministic; }),
       I("System.threads", [](O& o) -> int& { return o.num_threads; }),
   };
@@ -293,6 +305,7 @@ void TrackerOptions::Check() const {
   planes.Check();
   map_lock.Check();
   map_update.Check();
+  depth.Check();
   Require(num_threads >= 1, "num_threads must be >= 1");
   Require(ba_threads >= 0, "ba_threads (LocalBA.threads) must be >= 0");
 }

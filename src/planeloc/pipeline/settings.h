@@ -17,6 +17,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/io/settings_camera.h"
 #include "planeloc/optim/window_ba.h"
+#include "planeloc/prior/depth_prior.h"
 #include "planeloc/prior/map_lock_options.h"
 #include "planeloc/prior/plane_association.h"
 #include "planeloc/prior/plane_evidence.h"
@@ -48,6 +49,9 @@ struct TrackerOptions : OdometryOptions {
   // `planeloc run --map-update`: what the run learns about each plane (prior/plane_evidence.h).
   bool record_plane_evidence = false;  // not a settings key: the run's --map-update turns it on
   PlaneEvidenceOptions map_update;
+  // With a map cloud (`planeloc run --map-cloud map.pcd --prior depth`): the depth-to-map
+  // residual in each frame's pose optimisation (prior/depth_prior.h).
+  DepthPriorOptions depth;
 
   // Deterministic: local BA in line on the tracking thread (bit-identical runs).
   bool deterministic = false;

@@ -11,6 +11,7 @@
 
 #include "planeloc/geometry/lie.h"
 #include "planeloc/optim/pose_optimizer.h"
+#include "planeloc/prior/depth_prior.h"
 #include "planeloc/prior/window_planes.h"
 #include "planeloc/tracking/frame_tracking.h"
 #include "planeloc/tracking/keyframe_rule.h"
@@ -40,11 +41,12 @@ void RecordBaStats(const BaJob& job, const BaApplyStats& applied, FrameStats& st
 
 Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
                  const Rigid3d& world_from_cam_initial, const PlaneMap* plane_map,
-                 const StartPrior& start_prior)
+                 const StartPrior& start_prior, std::shared_ptr<const MapCloudIndex> map_cloud)
     : camera_(camera),
       options_(options),
       extractor_(options.orb),
       map_(ScaleModel{options.orb.scale_factor, options.orb.num_levels}),
+      map_cloud_(std::move(map_cloud)),
       cam_from_world_initial_(world_from_cam_initial.Inverse()) {
   options_.Check();
   camera_.Check();
@@ -84,7 +86,27 @@ TrackResult Tracker::Track(const cv::Mat& left, const cv::Mat& right, double tim
 }
 
 StereoFeatures Tracker::ExtractFeatures(const cv::Mat& left, const cv::Mat& right) const {
-  return ExtractStereoFeatures(left, right, camera_, extractor_, options_.stereo);
+  StereoFeatures features =
+      ExtractStereoFeatures(left, right, camera_, extractor_, options_.stereo);
+  if (map_cloud_) features.dense = ComputeDenseDisparity(left, right, options_.depth.stereo);
+  return features;
+}
+
+void Tracker::RefineWithMapDepth(const DenseDisparity& disparity, Frame& frame, FrameStats& stats) {
+  std::vector<PoseObservation> visual;
+  for (int i = 0; i < frame.size(); ++i) {
+    const int id = frame.map_point_ids[i];
+    if (id < 0 || frame.outlier[i] || !map_.HasPoint(id)) continue;
+    const cv::KeyPoint& kp = frame.keypoint(i);
+    visual.push_back({map_.point(id).point_in_world, kp.pt.x, kp.pt.y, frame.features.u_right[i],
+                      extractor_.InverseLevelSigma2(kp.octave)});
+  }
+  const DepthRefinement refined = RefinePoseWithMapDepth(camera_, frame.cam_from_world, visual,
+                                                         *map_cloud_, disparity, options_.depth);
+  if (!refined.applied) return;
+  frame.cam_from_world = refined.cam_from_world;
+  stats.depth_points = refined.selection.used;
+  stats.depth_residual_px = refined.median_abs_residual_px;
 }
 
 Rigid3d Tracker::PredictPose() const {
@@ -125,6 +147,7 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
   stats.features = static_cast<int>(features.left.keypoints.size());
   stats.stereo_matches = features.num_stereo_matches();
   left_pyramid_ = features.left.pyramid;  // shallow: the Frame drops its own
+  const DenseDisparity disparity = std::move(features.dense);
   Frame frame(next_frame_id_++, timestamp, std::move(features), camera_);
 
   const auto track_start = Clock::now();
@@ -143,6 +166,7 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
     stats.inliers = TrackLocalMap(TrackingContext{camera_, extractor_, options_}, map_, frame,
                                   reference_keyframe_id_);
     tracked = stats.inliers >= options_.min_tracked_inliers;
+    if (tracked && map_cloud_ && !disparity.empty()) RefineWithMapDepth(disparity, frame, stats);
     stats.ms_local_map = MillisecondsSince(local_start);
   }
 

@@ -28,6 +28,7 @@
 #include "planeloc/pipeline/frame_stats.h"
 #include "planeloc/pipeline/job_worker.h"
 #include "planeloc/pipeline/settings.h"
+#include "planeloc/prior/map_cloud_index.h"
 #include "planeloc/prior/map_lock.h"
 #include "planeloc/prior/plane_association.h"
 #include "planeloc/prior/plane_evidence.h"
@@ -64,9 +65,13 @@ class Tracker {
   // `start_prior`: how well world_from_cam_initial is known in the map frame; unless exact, the
   // run registers its structure to the plane map (map lock) before it uses the planes, and moves
   // its map into the map frame when it locks.
+  // `map_cloud`: the LiDAR map's points in that frame (`--prior depth`): each tracked frame's
+  // pose is refined with the depth-to-map residual (prior/depth_prior.h, options.depth) from the
+  // start as given; without it and without a plane map the tracker is visual odometry.
   Tracker(const StereoCamera& camera, const TrackerOptions& options,
           const Rigid3d& world_from_cam_initial = Rigid3d::Identity(),
-          const PlaneMap* plane_map = nullptr, const StartPrior& start_prior = {});
+          const PlaneMap* plane_map = nullptr, const StartPrior& start_prior = {},
+          std::shared_ptr<const MapCloudIndex> map_cloud = nullptr);
   ~Tracker();
   Tracker(const Tracker&) = delete;
   Tracker& operator=(const Tracker&) = delete;
@@ -157,6 +162,8 @@ class Tracker {
   // The settling after a lock (bias statistics restarted, the lock's covariance) and its event.
   void LockBookkeeping(const MapCorrection& correction, int frame_id);
   Rigid3d PredictPose() const;
+  // The depth prior: the frame's pose from its ORB inliers and the map cloud's depth residuals.
+  void RefineWithMapDepth(const DenseDisparity& disparity, Frame& frame, FrameStats& stats);
   double CloseDepth() const { return options_.close_depth_baselines * camera_.baseline; }
 
   StereoCamera camera_;
@@ -165,8 +172,9 @@ class Tracker {
   std::unique_ptr<PlaneEvidence> evidence_;  // with planes_ and options.record_plane_evidence
   OrbExtractor extractor_;
   SparseMap map_;
-  std::unique_ptr<BaScheduler> ba_scheduler_;  // threaded mode
-  std::unique_ptr<MapLocker> locker_;          // with a plane map
+  std::unique_ptr<BaScheduler> ba_scheduler_;       // threaded mode
+  std::unique_ptr<MapLocker> locker_;               // with a plane map
+  std::shared_ptr<const MapCloudIndex> map_cloud_;  // with the depth prior
   // Threaded mode with a plane map: runs the locker's registrations. In line (deterministic), a
   // finished registration waits in inline_registration_ until applied.
   std::unique_ptr<JobWorker<RegistrationJob>> registration_worker_;

@@ -187,12 +187,14 @@ DepthRefinement RefinePoseWithMapDepth(const StereoCamera& camera,
   result.cam_from_world = cam_from_world_initial;
   if (disparity.empty()) return result;
   const PinholeStereoIntrinsics k = PinholeStereoIntrinsics::From(camera);
-  // Whitened by sigma_d / sqrt(weight): the weight scales the depth terms' information.
-  const double sigma = options.disparity_sigma / std::sqrt(options.weight);
+  // Whitened by sigma_d, the robust kernel at `huber` sigma_d, then scaled by the weight (the
+  // kernel stays where the disparity's noise puts it whatever the weight).
+  const double sigma = options.disparity_sigma;
 
   PoseBlocks pose(cam_from_world_initial);
   ceres::HuberLoss huber_mono(std::sqrt(5.991)), huber_stereo(std::sqrt(7.815));
-  ceres::HuberLoss huber_depth(options.huber);
+  ceres::ScaledLoss huber_depth(new ceres::HuberLoss(options.huber), options.weight,
+                                ceres::TAKE_OWNERSHIP);
   std::vector<Eigen::Vector3d> points;
   for (int round = 0; round < 2; ++round) {
     points = SelectDepthPoints(map, camera, pose.ToRigid(), disparity, options,

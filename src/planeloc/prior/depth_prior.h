@@ -44,14 +44,14 @@ struct DepthPriorOptions {
   double min_depth = 1.0;        // nor nearer than this along the optical axis (m)
   double disparity_sigma = 1.0;  // sigma_d of the dense disparity, level-0 pixels
   // Information of the depth residuals relative to the ORB reprojections' (both whitened).
-  double weight = 1.0;
+  double weight = 0.3;
   int sample_cell = 12;   // at most one map point per cell of this many level-0 px
   int max_points = 1500;  // per frame, spread over the image by sample_cell
   // The map's own occlusion test: every map point covers a disc of voxel_size in the image
   // (a splat); a point deeper than the nearest splat at its pixel by more than
   // 1.5 voxel_size + zbuffer_relative * z is hidden (a back face, a wall behind a pillar).
   double zbuffer_relative = 0.02;
-  double occlusion_margin = 0.2;  // m; behind the stereo surface by more: occluded
+  double occlusion_margin = 1.0;  // m; behind the stereo surface by more: occluded
   // Second differences of the disparity around a point's pixel above this (level-0 px): a depth
   // edge, where the interpolated disparity and its gradient mix two surfaces; not used.
   double edge_tolerance = 1.0;

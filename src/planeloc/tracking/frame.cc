@@ -43,6 +43,7 @@ std::vector<int> FeatureGrid::InArea(const std::vector<cv::KeyPoint>& keypoints,
 Frame::Frame(int frame_id, double time, StereoFeatures stereo_features, const StereoCamera& camera)
     : id(frame_id), timestamp(time), features(std::move(stereo_features)) {
   features.left.pyramid.clear();
+  features.dense = {};
   grid = FeatureGrid(features.left.keypoints, camera.width, camera.height);
   map_point_ids.assign(features.left.keypoints.size(), -1);
   outlier.assign(features.left.keypoints.size(), false);

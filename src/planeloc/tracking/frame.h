@@ -40,7 +40,8 @@ struct Frame {
   std::vector<bool> outlier;       // per left keypoint, from the last pose optimization
 
   Frame() = default;
-  // Takes the features (drops the image pyramid: frames outlive their images).
+  // Takes the features (drops the image pyramid and dense disparity: frames outlive their
+  // images).
   Frame(int id, double timestamp, StereoFeatures features, const StereoCamera& camera);
 
   int size() const { return static_cast<int>(features.left.keypoints.size()); }
