@@ -11,21 +11,13 @@
 #include <vector>
 
 #include "planeloc/geometry/lie.h"
+#include "planeloc/optim/test_scene.h"
 #include "planeloc/util/error.h"
 
 namespace planeloc {
 namespace {
 
-StereoCamera KittiLikeCamera() {
-  StereoCamera camera;
-  camera.fx = camera.fy = 718.856;
-  camera.cx = 607.19;
-  camera.cy = 185.22;
-  camera.baseline = 0.537;
-  camera.width = 1226;
-  camera.height = 370;
-  return camera;
-}
+using test::KittiLikeCamera;
 
 // A street seen from the camera at the origin looking along +z (y down): the road 1.65 m below,
 // facades at x = -6 and x = +7 with pillars standing 0.6 m out of them every 8 m (what holds the
