@@ -17,7 +17,7 @@
 #include "planeloc/geometry/camera.h"
 #include "planeloc/io/settings_camera.h"
 #include "planeloc/optim/window_ba.h"
-#include "planeloc/prior/depth_prior.h"
+#include "planeloc/prior/depth_prior_options.h"
 #include "planeloc/prior/map_lock_options.h"
 #include "planeloc/prior/plane_association.h"
 #include "planeloc/prior/plane_evidence.h"

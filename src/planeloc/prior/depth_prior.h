@@ -33,32 +33,10 @@
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/optim/cost_functions.h"
 #include "planeloc/optim/pose_optimizer.h"
+#include "planeloc/prior/depth_prior_options.h"
 #include "planeloc/prior/map_cloud_index.h"
 
 namespace planeloc {
-
-struct DepthPriorOptions {
-  DenseStereoOptions stereo;     // the dense disparity the residual reads
-  double voxel_size = 0.2;       // the map cloud is voxelized to this once, when loaded (m)
-  double max_range = 40.0;       // map points farther from the camera are not used (m)
-  double min_depth = 1.0;        // nor nearer than this along the optical axis (m)
-  double disparity_sigma = 1.0;  // sigma_d of the dense disparity, level-0 pixels
-  // Information of the depth residuals relative to the ORB reprojections' (both whitened).
-  double weight = 0.3;
-  int sample_cell = 12;   // at most one map point per cell of this many level-0 px
-  int max_points = 1500;  // per frame, spread over the image by sample_cell
-  // The map's own occlusion test: every map point covers a disc of voxel_size in the image
-  // (a splat); a point deeper than the nearest splat at its pixel by more than
-  // 1.5 voxel_size + zbuffer_relative * z is hidden (a back face, a wall behind a pillar).
-  double zbuffer_relative = 0.02;
-  double occlusion_margin = 1.0;  // m; behind the stereo surface by more: occluded
-  // Second differences of the disparity around a point's pixel above this (level-0 px): a depth
-  // edge, where the interpolated disparity and its gradient mix two surfaces; not used.
-  double edge_tolerance = 1.0;
-  double huber = 2.0;   // robust kernel threshold, in sigma_d
-  int min_points = 30;  // fewer usable map points: the frame keeps its visual pose
-  void Check() const;
-};
 
 // Why each candidate map point was or was not used in a frame.
 struct DepthSelectionStats {
