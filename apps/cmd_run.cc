@@ -174,7 +174,7 @@ void CheckRunArgs(const RunArgs& args) {
   CheckInput(args.sequence.empty() != args.bag.empty(), "", 0,
              args.bag.empty() ? "no input given" : "--sequence and --bag given together",
              "pass either --sequence (a KITTI-layout folder) or --bag (a ROS 1 bag)");
-  if (args.planes.empty() && args.map_cloud.empty() && !args.no_planes) {
+  if (args.prior.empty() && args.planes.empty() && args.map_cloud.empty() && !args.no_planes) {
     throw InputError("", 0, "no prior map given",
                      "pass --planes planes.json (from `planeloc map planes`), --map-cloud map.pcd "
                      "(the depth prior) or --no-planes (visual odometry only)");

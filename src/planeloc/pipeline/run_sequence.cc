@@ -497,6 +497,18 @@ RunSummary RunSequence(const RunOptions& run) {
   const std::optional<PlaneMap> plane_map = ReadRunPlaneMap(run);
   if (plane_map) summary.planes = static_cast<int>(plane_map->planes.size());
   std::optional<SettingsFile> settings = ReadSettings(run);
+  // The map cloud too, with the settings' voxel size: a missing or empty cloud fails before any
+  // work.
+  std::shared_ptr<const MapCloudIndex> map_cloud;
+  if (run.map_cloud_path) {
+    PointCloudReadOptions read;
+    read.voxel_size =
+        settings ? settings->options.depth.voxel_size : DepthPriorOptions{}.voxel_size;
+    map_cloud = std::make_shared<MapCloudIndex>(ReadPointCloud(*run.map_cloud_path, read).points);
+    summary.map_cloud_points = map_cloud->size();
+    spdlog::info("{}: {} points after the {:.2f} m voxel filter (DepthPrior.voxelSize)",
+                 run.map_cloud_path->string(), map_cloud->size(), read.voxel_size);
+  }
   std::shared_ptr<const StereoSource> source = run.source;
   if (!source && AslSequence::IsAslFolder(run.sequence)) {
     source = std::make_shared<AslSequence>(AslSequence::Open(run.sequence));
@@ -534,15 +546,6 @@ RunSummary RunSequence(const RunOptions& run) {
   if (run.stats_path) stats_out.emplace(*run.stats_path, OutputFile::Mode::kIncremental);
   const std::size_t total =
       run.max_frames > 0 ? std::min<std::size_t>(run.max_frames, sequence.size()) : sequence.size();
-  std::shared_ptr<const MapCloudIndex> map_cloud;
-  if (run.map_cloud_path) {
-    PointCloudReadOptions read;
-    read.voxel_size = summary.options.depth.voxel_size;
-    map_cloud = std::make_shared<MapCloudIndex>(ReadPointCloud(*run.map_cloud_path, read).points);
-    summary.map_cloud_points = map_cloud->size();
-    spdlog::info("{}: {} points after the {:.2f} m voxel filter (DepthPrior.voxelSize)",
-                 run.map_cloud_path->string(), map_cloud->size(), read.voxel_size);
-  }
   Tracker tracker(summary.camera, summary.options, run.world_from_cam_initial,
                   plane_map ? &*plane_map : nullptr, run.start_prior, map_cloud);
   std::optional<ProgressBar> progress;
