@@ -10,7 +10,6 @@
 #include <limits>
 #include <memory>
 
-
 namespace planeloc {
 
 ceres::CostFunction* DisparityToMapError::Create(const DenseDisparity& disparity,
