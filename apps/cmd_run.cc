@@ -162,10 +162,11 @@ void ServeUntilInterrupted(const view::LiveView& live) {
 }
 #endif
 
-// --prior, or the mode the maps given imply: planes with --planes, depth with --map-cloud alone.
+// --prior, or the mode the maps given imply: planes with --planes, depth with --map-cloud alone,
+// hybrid with both.
 std::string PriorMode(const RunArgs& args) {
   if (!args.prior.empty()) return args.prior;
-  if (!args.map_cloud.empty() && args.planes.empty()) return "depth";
+  if (!args.map_cloud.empty()) return args.planes.empty() ? "depth" : "hybrid";
   return args.planes.empty() ? "" : "planes";
 }
 
@@ -181,8 +182,12 @@ void CheckRunArgs(const RunArgs& args) {
   }
   const std::string prior = PriorMode(args);
   if (prior == "hybrid") {
-    throw InputError("", 0, "--prior hybrid is not available in this version",
-                     "use --prior planes (with --planes) or --prior depth (with --map-cloud)");
+    CheckInput(!args.planes.empty() && !args.map_cloud.empty(), "", 0,
+               "--prior hybrid needs both the plane map and the LiDAR map cloud",
+               "add --planes planes.json and --map-cloud map.pcd (from `planeloc map planes` and "
+               "`planeloc map build`)");
+    CheckInput(!args.no_planes, "", 0, "--no-planes and --prior hybrid given together",
+               "drop --no-planes, or drop --prior hybrid for visual odometry");
   }
   if (prior == "depth") {
     CheckInput(!args.map_cloud.empty(), "", 0, "--prior depth needs the LiDAR map cloud",
@@ -275,7 +280,7 @@ RunOptions MakeRunOptions(const RunArgs& args) {
         "--init-sigma is used only with --planes: visual odometry runs in the frame of "
         "the initial pose");
   }
-  if (!args.init_sigma.empty() && options.map_cloud_path) {
+  if (!args.init_sigma.empty() && options.map_cloud_path && !options.planes_path) {
     spdlog::warn(
         "--init-sigma is used only with --planes (the map lock): the depth prior starts from the "
         "initial pose as given and refines it frame by frame (docs/depth-prior.md)");
@@ -450,7 +455,8 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
                   "residual of dense stereo against the map (--prior depth; docs/depth-prior.md)");
   cmd->add_option("--prior", args->prior,
                   "planes | depth | hybrid: which prior map constrains the pose. Default: planes "
-                  "with --planes, depth with --map-cloud alone (hybrid is not available yet)")
+                  "with --planes alone, depth with --map-cloud alone, hybrid with both "
+                  "(docs/depth-prior.md)")
       ->check(CLI::IsMember({"planes", "depth", "hybrid"}));
   cmd->add_option("--init-sigma", args->init_sigma,
                   "\"S_XY S_Z S_YAW_DEG\": how well the initial pose is known in the plane map "

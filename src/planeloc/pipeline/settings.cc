@@ -199,6 +199,13 @@ const std::vector<Key>& Keys() {
       I("DepthPrior.maxPoints", [](O& o) -> int& { return o.depth.max_points; }),
       D("DepthPrior.occlusionMargin", [](O& o) -> double& { return o.depth.occlusion_margin; }),
       D("DepthPrior.edgeTolerance", [](O& o) -> double& { return o.depth.edge_tolerance; }),
+      B("DepthPrior.frameRefinement", [](O& o) -> bool& { return o.depth.frame_refinement; }),
+      B("DepthPrior.windowSurfaces", [](O& o) -> bool& { return o.depth.window_surfaces; }),
+      D("DepthPrior.surfaceRadius", [](O& o) -> double& { return o.depth.surfaces.radius; }),
+      I("DepthPrior.surfaceMinPoints", [](O& o) -> int& { return o.depth.surfaces.min_points; }),
+      D("DepthPrior.surfaceMaxThickness",
+        [](O& o) -> double& { return o.depth.surfaces.max_thickness; }),
+      D("DepthPrior.surfaceMinSpread", [](O& o) -> double& { return o.depth.surfaces.min_spread; }),
       B("System.deterministic", [](O& o) -> bool& { return o.deterministic; }),
       I("System.threads", [](O& o) -> int& { return o.num_threads; }),
   };

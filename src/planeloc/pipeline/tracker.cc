@@ -67,9 +67,11 @@ Tracker::Tracker(const StereoCamera& camera, const TrackerOptions& options,
       registration_worker_ = std::make_unique<JobWorker<RegistrationJob>>(
           [locker = locker_.get()](RegistrationJob& job) { locker->Run(job); });
     }
-  } else {
-    options_.ba.lambda = 1.0;  // nothing to weigh the reprojection against
   }
+  if (map_cloud_ && options_.depth.window_surfaces) {
+    cloud_surfaces_ = std::make_unique<CloudSurfaces>(*map_cloud_, options_.depth.surfaces);
+  }
+  if (!planes_ && !cloud_surfaces_) options_.ba.lambda = 1.0;  // nothing to weigh it against
   if (!options_.deterministic) {
     ba_scheduler_ = std::make_unique<BaScheduler>(
         [camera = camera_, options = options_.ba](BaJob& job) { SolveBaJob(camera, options, job); },
@@ -88,7 +90,9 @@ TrackResult Tracker::Track(const cv::Mat& left, const cv::Mat& right, double tim
 StereoFeatures Tracker::ExtractFeatures(const cv::Mat& left, const cv::Mat& right) const {
   StereoFeatures features =
       ExtractStereoFeatures(left, right, camera_, extractor_, options_.stereo);
-  if (map_cloud_) features.dense = ComputeDenseDisparity(left, right, options_.depth.stereo);
+  if (map_cloud_ && options_.depth.frame_refinement) {
+    features.dense = ComputeDenseDisparity(left, right, options_.depth.stereo);
+  }
   return features;
 }
 
@@ -166,7 +170,11 @@ TrackResult Tracker::TrackFeatures(StereoFeatures features, double timestamp, do
     stats.inliers = TrackLocalMap(TrackingContext{camera_, extractor_, options_}, map_, frame,
                                   reference_keyframe_id_);
     tracked = stats.inliers >= options_.min_tracked_inliers;
-    if (tracked && map_cloud_ && !disparity.empty()) RefineWithMapDepth(disparity, frame, stats);
+    // Hybrid mode before the map lock: the cloud's frame is not yet the trajectory's.
+    const bool cloud_frame_known = !locker_ || locker_->PlanesActive();
+    if (tracked && map_cloud_ && cloud_frame_known && !disparity.empty()) {
+      RefineWithMapDepth(disparity, frame, stats);
+    }
     stats.ms_local_map = MillisecondsSince(local_start);
   }
 
@@ -448,6 +456,12 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
     planes_->CommitRecords();
     planes_->UpdateHealth(AssociateWindowPlanes(job.problem, estimates, options_.planes, *planes_));
     if (evidence_) RecordEvidence(keyframe_id, job.problem, estimates);
+    // Hybrid: the points on no plane of the plane map, on a flat patch of the cloud.
+    if (cloud_surfaces_) cloud_surfaces_->Associate(job.problem, estimates, options_.planes);
+  } else if (cloud_surfaces_ && !planes_) {
+    cloud_surfaces_->Associate(job.problem,
+                               EstimateWindowPoints(job.problem, map_, camera_, options_.planes),
+                               options_.planes);
   }
   if (planes_) stats.planes_disabled = planes_->num_disabled();
   if (job.problem.observations.empty()) {

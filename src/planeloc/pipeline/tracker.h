@@ -28,6 +28,7 @@
 #include "planeloc/pipeline/frame_stats.h"
 #include "planeloc/pipeline/job_worker.h"
 #include "planeloc/pipeline/settings.h"
+#include "planeloc/prior/cloud_surfaces.h"
 #include "planeloc/prior/map_cloud_index.h"
 #include "planeloc/prior/map_lock.h"
 #include "planeloc/prior/plane_association.h"
@@ -175,6 +176,7 @@ class Tracker {
   std::unique_ptr<BaScheduler> ba_scheduler_;       // threaded mode
   std::unique_ptr<MapLocker> locker_;               // with a plane map
   std::shared_ptr<const MapCloudIndex> map_cloud_;  // with the depth prior
+  std::unique_ptr<CloudSurfaces> cloud_surfaces_;   // with it and DepthPrior.windowSurfaces
   // Threaded mode with a plane map: runs the locker's registrations. In line (deterministic), a
   // finished registration waits in inline_registration_ until applied.
   std::unique_ptr<JobWorker<RegistrationJob>> registration_worker_;

@@ -6,8 +6,20 @@
 
 namespace planeloc {
 
+void CloudSurfaceOptions::Check() const {
+  if (!(radius > 0)) throw OptionsError("CloudSurfaceOptions.radius must be > 0 (m)");
+  if (min_points < 3) throw OptionsError("CloudSurfaceOptions.min_points must be >= 3");
+  if (!(max_thickness > 0)) {
+    throw OptionsError("CloudSurfaceOptions.max_thickness must be > 0 (m)");
+  }
+  if (!(min_spread >= 0 && min_spread < 1)) {
+    throw OptionsError("CloudSurfaceOptions.min_spread must be in [0, 1)");
+  }
+}
+
 void DepthPriorOptions::Check() const {
   stereo.Check();
+  surfaces.Check();
   const auto positive = [](double value, const char* name) {
     if (!(value > 0)) throw OptionsError(std::string("DepthPriorOptions.") + name + " must be > 0");
   };

@@ -6,6 +6,18 @@
 
 namespace planeloc {
 
+// The map cloud's flat patches as the window BA's planes (cloud_surfaces.h).
+struct CloudSurfaceOptions {
+  double radius = 0.6;  // m: the cloud points around a map point that define its patch
+  int min_points = 8;   // fewer: no patch
+  // m: RMS of the patch's points along its normal; thicker is not a surface (foliage, a crease).
+  double max_thickness = 0.05;
+  // The patch's second extent (sqrt of the middle eigenvalue) over `radius` at least this: a line
+  // of points (a pole, a kerb's edge, one scan ring) has no normal.
+  double min_spread = 0.25;
+  void Check() const;  // throws OptionsError naming the field
+};
+
 struct DepthPriorOptions {
   DenseStereoOptions stereo;     // the dense disparity the residual reads
   double voxel_size = 0.2;       // the map cloud is voxelized to this once, when loaded (m)
@@ -26,6 +38,12 @@ struct DepthPriorOptions {
   double edge_tolerance = 1.0;
   double huber = 2.0;   // robust kernel threshold, in sigma_d
   int min_points = 30;  // fewer usable map points: the frame keeps its visual pose
+  // Kim et al.'s residual in each frame's pose (DepthPrior.frameRefinement); off: no dense
+  // stereo at all, the map acts through the window BA's patches only.
+  bool frame_refinement = true;
+  // The window BA's point-to-patch residuals (DepthPrior.windowSurfaces; cloud_surfaces.h).
+  bool window_surfaces = true;
+  CloudSurfaceOptions surfaces;
   void Check() const;
 };
 
