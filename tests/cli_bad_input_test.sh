@@ -77,17 +77,20 @@ expect_error "run missing plane map" "$work/nope.json" -- \
 printf '{"planes": [{"id": 0, "normal": [0, 0' >"$work/broken.json"
 expect_error "run corrupt plane map" "broken.json" -- \
   "$planeloc" run --sequence "$work/nope" --planes "$work/broken.json" --out "$work/t.txt"
-# Depth mode (--map-cloud, --prior): a missing cloud is named; contradictory maps and the mode
-# not built are refused before any work.
+# Depth and hybrid modes (--map-cloud, --prior): a missing cloud is named; contradictory maps are
+# refused before any work.
 expect_error "run missing map cloud" "$work/nope.pcd" -- \
   "$planeloc" run --sequence "$work/nope" --map-cloud "$work/nope.pcd" --out "$work/t.txt"
-expect_error "run prior hybrid" "--prior hybrid is not available" -- \
+expect_error "run prior hybrid without a plane map" "needs both the plane map and the LiDAR" -- \
   "$planeloc" run --sequence "$work/nope" --map-cloud "$work/nope.pcd" --prior hybrid \
+  --out "$work/t.txt"
+expect_error "run prior hybrid without a cloud" "add --planes planes.json and --map-cloud" -- \
+  "$planeloc" run --sequence "$work/nope" --planes "$work/broken.json" --prior hybrid \
   --out "$work/t.txt"
 expect_error "run prior depth without a cloud" "add --map-cloud" -- \
   "$planeloc" run --sequence "$work/nope" --prior depth --out "$work/t.txt"
-expect_error "run plane map and map cloud" "$work/cloud.pcd" -- \
-  "$planeloc" run --sequence "$work/nope" --planes "$work/broken.json" \
+expect_error "run prior planes with a map cloud" "$work/cloud.pcd" -- \
+  "$planeloc" run --sequence "$work/nope" --prior planes --planes "$work/broken.json" \
   --map-cloud "$work/cloud.pcd" --out "$work/t.txt"
 expect_error "run no-planes and map cloud" "--no-planes and --map-cloud" -- \
   "$planeloc" run --sequence "$work/nope" --no-planes --map-cloud "$work/cloud.pcd" \

@@ -34,6 +34,7 @@ class TrackerSimTest : public ::testing::Test {
         std::make_unique<sim::SimResult>(sim::GenerateSequence(options, dir_->path() / "sim"));
   }
   static void TearDownTestSuite() {
+    map_cloud_.reset();
     result_.reset();
     dir_.reset();
   }
@@ -66,12 +67,37 @@ class TrackerSimTest : public ::testing::Test {
     return (gt_rel.translation - est_rel.translation).norm() / length;
   }
 
+  // ATE RMSE without alignment: the map frame is the GT frame.
+  static double Ate(const RunSummary& summary) {
+    double sum2 = 0;
+    for (int i = 0; i < summary.frames; ++i) {
+      sum2 += (summary.world_from_cam[i].translation - result_->world_from_cam[i].translation)
+                  .squaredNorm();
+    }
+    return std::sqrt(sum2 / summary.frames);
+  }
+
+  // The LiDAR map of the drive (the simulated scans at the GT poses, as a mapping run would have
+  // them), built once for the tests that need it.
+  static const PointCloud& MapCloud() {
+    if (!map_cloud_) {
+      MapBuildOptions build;
+      build.show_progress = false;
+      map_cloud_ =
+          std::make_unique<PointCloud>(BuildMap(build, KittiSequence::Open(result_->sequence_dir),
+                                                ReadKittiTrajectory(result_->poses_path)));
+    }
+    return *map_cloud_;
+  }
+
   static std::unique_ptr<TempDir> dir_;
   static std::unique_ptr<sim::SimResult> result_;
+  static std::unique_ptr<PointCloud> map_cloud_;
 };
 
 std::unique_ptr<TempDir> TrackerSimTest::dir_;
 std::unique_ptr<sim::SimResult> TrackerSimTest::result_;
+std::unique_ptr<PointCloud> TrackerSimTest::map_cloud_;
 
 // Bounds at about 1.5-2x of the values measured on tiny seeds 1 (this fixture), 3, 11 and 21
 // (2026-12-02, commit after e712238): largest per-pose error 0.126 / 0.117 / 0.144 / 0.098 m, end
@@ -96,11 +122,7 @@ TEST_F(TrackerSimTest, TinyTracksEveryFrameWithSmallDrift) {
 // The product: the same drive localized in the LiDAR plane map built from the simulated scans
 // (GT poses, as a mapping run would have them) is closer to the truth than visual odometry.
 TEST_F(TrackerSimTest, PlaneMapReducesTheErrorOfTheBaseline) {
-  MapBuildOptions build;
-  build.show_progress = false;
-  const PointCloud map = BuildMap(build, KittiSequence::Open(result_->sequence_dir),
-                                  ReadKittiTrajectory(result_->poses_path));
-  const MapPlanesOutput planes = RunMapPlanes(map, MapPlanesOptions());
+  const MapPlanesOutput planes = RunMapPlanes(MapCloud(), MapPlanesOptions());
   ASSERT_GE(planes.extraction.plane_map.planes.size(), 3u);  // road, sidewalks, facades
   const std::filesystem::path planes_path = dir_->path() / "planes.json";
   WritePlaneMap(planes_path, planes.extraction.plane_map);
@@ -116,39 +138,53 @@ TEST_F(TrackerSimTest, PlaneMapReducesTheErrorOfTheBaseline) {
   EXPECT_EQ(with_planes.tracked, with_planes.frames);
   EXPECT_GT(with_planes.mean_ba_plane_residuals, 100.0);
   EXPECT_EQ(baseline.mean_ba_plane_residuals, 0.0);
-  // ATE without alignment: the map frame is the GT frame.
-  auto ate = [&](const RunSummary& summary) {
-    double sum2 = 0;
-    for (int i = 0; i < summary.frames; ++i) {
-      sum2 += (summary.world_from_cam[i].translation - result_->world_from_cam[i].translation)
-                  .squaredNorm();
-    }
-    return std::sqrt(sum2 / summary.frames);
-  };
-  const double ate_visual = ate(baseline), ate_planes = ate(with_planes);
+  const double ate_visual = Ate(baseline), ate_planes = Ate(with_planes);
   std::cout << "ATE RMSE visual " << ate_visual << " m, with planes " << ate_planes << " m\n";
   EXPECT_LT(ate_planes, 0.7 * ate_visual);
   EXPECT_LT(ate_planes, 0.06);
 }
 
-// The depth prior is connected: with the depth residual weighted above the visual term
-// (DepthPrior.weight 30), a map cloud shifted 0.4 m sideways drags the trajectory sideways with
-// it, and every tracked frame after the first is refined. At the default weight (0.3) the visual
-// term dominates each frame (docs/depth-prior.md), so the pull is measured at 30. Measured
-// 2026-12-05 on tiny seed 3 (the same commands with the CLI): mean sideways offset 0.327 m at
-// weight 30, 0.030 m at weight 3; on this fixture (tiny seed 1) 0.426 m at weight 30.
+// Depth mode localizes in the raw map cloud: the window BA's point-to-patch residuals hold the
+// trajectory on the map. Measured 2026-12-05 (planeloc run --map-cloud map.pcd --deterministic,
+// map from `planeloc map build` on the GT poses, ATE no alignment; VO --no-planes): tiny seed 1
+// (this fixture) depth 0.054 m against VO 0.084 m (0.64x), seed 5 0.059 / 0.083, 11 0.032 / 0.077,
+// 21 0.042 / 0.060, 3 0.065 / 0.074. Bound at 0.8x VO here: a disconnected residual is 1x.
+TEST_F(TrackerSimTest, DepthModeReducesTheErrorOfTheBaseline) {
+  const std::filesystem::path map_path = dir_->path() / "map_cloud.pcd";
+  WritePointCloud(map_path, MapCloud());
+  RunOptions visual = Run("visual_for_depth", true);
+  visual.world_from_cam_initial = result_->world_from_cam.front();
+  RunOptions depth = visual;
+  depth.trajectory_path = dir_->path() / "depth.txt";
+  depth.map_cloud_path = map_path;
+  const RunSummary baseline = RunSequence(visual);
+  const RunSummary with_depth = RunSequence(depth);
+  ASSERT_EQ(with_depth.frames, result_->frames);
+  EXPECT_EQ(with_depth.tracked, with_depth.frames);
+  // The patches are connected: 1 000-1 500 per window measured.
+  EXPECT_GT(with_depth.mean_ba_plane_residuals, 300.0);
+  const double ate_visual = Ate(baseline), ate_depth = Ate(with_depth);
+  std::cout << "ATE RMSE visual " << ate_visual << " m, depth mode " << ate_depth << " m\n";
+  EXPECT_LT(ate_depth, 0.8 * ate_visual);
+  EXPECT_LT(ate_depth, 0.08);
+}
+
+// Kim et al.'s residual in the frame's pose is connected: with it weighted above the visual term
+// (DepthPrior.weight 30) and the window BA visual (DepthPrior.windowSurfaces 0), a map cloud
+// shifted 0.4 m sideways drags the trajectory sideways with it, and every tracked frame after the
+// first is refined. At the default weight (0.3) the visual term dominates each frame
+// (docs/depth-prior.md), so the pull is measured at 30. Measured 2026-12-05 on tiny seed 3 (the
+// same commands with the CLI): mean sideways offset 0.327 m at weight 30, 0.030 m at weight 3; on
+// this fixture (tiny seed 1) 0.426 m at weight 30.
 TEST_F(TrackerSimTest, DepthPriorPullsTheTrajectoryToAShiftedMapCloud) {
-  MapBuildOptions build;
-  build.show_progress = false;
-  PointCloud cloud = BuildMap(build, KittiSequence::Open(result_->sequence_dir),
-                              ReadKittiTrajectory(result_->poses_path));
+  PointCloud cloud = MapCloud();
   const std::filesystem::path map_path = dir_->path() / "map_cloud.pcd";
   WritePointCloud(map_path, cloud);
   for (Eigen::Vector3d& p : cloud.points) p.x() += 0.4;  // the first camera's right
   const std::filesystem::path shifted_path = dir_->path() / "map_cloud_shifted.pcd";
   WritePointCloud(shifted_path, cloud);
   const std::filesystem::path settings = dir_->path() / "depth_weight.yaml";
-  std::ofstream(settings) << "%YAML:1.0\nDepthPrior.weight: 30\n";
+  std::ofstream(settings) << "%YAML:1.0\nDepthPrior.weight: 30\nDepthPrior.windowSurfaces: 0\n";
 
   auto run_with = [&](const std::string& name, const std::filesystem::path& map) {
     RunOptions run = Run(name, true);
