@@ -63,7 +63,7 @@ const CommandRegistrar kRegistrar("sim", [](CLI::App& app) -> CommandRunner {
       "sim", "Synthetic town: stereo images, LiDAR scans, GT poses and planes (KITTI layout)");
   cmd->add_option("--out", args->out, "Output folder (KITTI odometry layout)")->required();
   cmd->add_option("--preset", args->preset,
-                  "tiny | small | kitti07-like | room (indoor, ASL layout)")
+                  "tiny | small | kitti07-like | rural (country road) | room (indoor, ASL layout)")
       ->capture_default_str();
   cmd->add_option("--seed", args->seed, "Seed of the town, motion and noise")
       ->capture_default_str();

@@ -83,6 +83,33 @@ TEST(ScenarioTest, SmallHasOneTurnAndTinyNone) {
   EXPECT_GT(ClosestFacade(tiny), 5.0);
 }
 
+// The rural preset (issue 34): a country road whose roadside is slopes, barriers and trees, with
+// the odd farm building far back: almost none of the facades plane mode relies on. Measured on
+// seed 1 (2026-12-05, `planeloc sim --preset rural`): 354 m, 19 GT planes (the ground and 18 farm
+// facades), closest facade 13 m from the camera.
+TEST(ScenarioTest, RuralIsACountryRoadWithoutFacadesAlongIt) {
+  const Scenario rural = BuildScenario(SimOptions::FromPreset("rural"));
+  ASSERT_EQ(rural.world_from_cam.size(), 300u);
+  EXPECT_NEAR(rural.path_length, 355.0, 30.0);
+  const MotionStats stats = Analyze(rural.world_from_cam);
+  EXPECT_EQ(stats.turns, 0);  // two long bends of 25 degrees
+  EXPECT_LE(stats.max_speed, 12.5);
+  EXPECT_GT(ClosestFacade(rural), 10.0);
+  int facades = 0, slopes = 0, sidewalks = 0;
+  for (const auto& plane : rural.world.planes) facades += plane.kind == "facade";
+  for (const auto& quad : rural.world.quads) {
+    slopes += quad.material == Material::kFoliage;
+    sidewalks += quad.material == Material::kSidewalk;
+  }
+  EXPECT_LT(facades, 40);
+  EXPECT_GT(slopes, 60);  // three strips every 8 m of about half the roadside
+  EXPECT_EQ(sidewalks, 0);
+  const Scenario small = BuildScenario(SimOptions::FromPreset("small"));
+  int small_facades = 0;
+  for (const auto& plane : small.world.planes) small_facades += plane.kind == "facade";
+  EXPECT_GT(small_facades, 3 * facades);
+}
+
 TEST(ScenarioTest, SeedChangesTheTown) {
   SimOptions a = SimOptions::FromPreset("tiny"), b = a;
   b.seed = 2;

@@ -29,11 +29,11 @@ namespace fs = std::filesystem;
 
 constexpr double kRateHz = 10.0;
 constexpr double kLaneOffset = -1.75;  // the vehicle keeps to the right lane
-constexpr const char* kPresets = "tiny, small, kitti07-like, room";
+constexpr const char* kPresets = "tiny, small, kitti07-like, rural, room";
 
 int PresetFrames(const std::string& preset) {
   if (preset == "tiny") return 60;
-  if (preset == "small") return 300;
+  if (preset == "small" || preset == "rural") return 300;
   return 1101;
 }
 
@@ -123,6 +123,12 @@ void ScenarioFromPreset(const SimOptions& options, int frames, Scenario* out, St
     *street = StreetPath::FromCorners({{-80.0, 0.0}, {150.0, 0.0}, {150.0, std::max(500.0, extra)}},
                                       false, 15.0);
     drive.cruise_speed = 9.0;
+  } else if (options.preset == "rural") {
+    // A country road with two long bends (radius 150 m), about 360 m driven at 12 m/s.
+    *street = StreetPath::FromCorners(
+        {{-80.0, 0.0}, {250.0, 0.0}, {500.0, 120.0}, {std::max(800.0, extra + 300.0), 120.0}},
+        false, 150.0);
+    drive.cruise_speed = 12.0;
   } else {
     // A ~710 m block loop with six ~90 degree turns (one to the right), like KITTI-07's size.
     *street = StreetPath::FromCorners(
@@ -224,7 +230,8 @@ std::string LightingName(Lighting lighting) {
 }
 
 void SimOptions::Check() const {
-  CheckInput(preset == "tiny" || preset == "small" || preset == "kitti07-like" || preset == "room",
+  CheckInput(preset == "tiny" || preset == "small" || preset == "kitti07-like" ||
+                 preset == "rural" || preset == "room",
              "", 0, "unknown preset '" + preset + "'", std::string("use one of: ") + kPresets);
   CheckInput(!frames || *frames > 0, "", 0, "--frames must be positive",
              "pass a frame count >= 1, or omit --frames for the preset's length");
@@ -274,7 +281,9 @@ Scenario BuildScenario(const SimOptions& options) {
     ScenarioFromPreset(options, options.frames.value_or(PresetFrames(options.preset)), &scenario,
                        &street);
   }
-  scenario.world = BuildTown(street, HashCombine(options.seed, 1u));
+  TownOptions town;
+  town.rural = options.preset == "rural";
+  scenario.world = BuildTown(street, HashCombine(options.seed, 1u), town);
   if (options.changes.Any()) ApplyChanges(options, street, &scenario);
   scenario.cam0_from_world = scenario.world_from_cam.front().Inverse();
   for (std::size_t i = 1; i < scenario.world_from_cam.size(); ++i) {

@@ -107,6 +107,18 @@ void AddGround(Context& c) {
   c.world.AddPlanarQuad(ground, "ground");
 }
 
+void AddCentreLine(Context& c) {
+  for (double s = 0.0; s + 3.0 <= c.street.length(); s += 9.0) {
+    const Station m = At(c.street, s + 1.5);
+    Quad dash;
+    dash.origin = Lift(m.p - 1.5 * m.t - 0.06 * m.n, 0.01);
+    dash.edge_u = Lift(3.0 * m.t);
+    dash.edge_v = Lift(0.12 * m.n);
+    dash.material = Material::kPaint;
+    c.world.AddClutterQuad(dash);
+  }
+}
+
 void AddSidewalksAndMarkings(Context& c) {
   const double rh = c.o.road_half_width, outer = rh + c.o.sidewalk_width + c.o.max_setback;
   for (const auto& [s0, s1] : Chunks(c.street)) {
@@ -140,15 +152,7 @@ void AddSidewalksAndMarkings(Context& c) {
       c.world.AddClutterQuad(line);
     }
   }
-  for (double s = 0.0; s + 3.0 <= c.street.length(); s += 9.0) {  // dashed centre line
-    const Station m = At(c.street, s + 1.5);
-    Quad dash;
-    dash.origin = Lift(m.p - 1.5 * m.t - 0.06 * m.n, 0.01);
-    dash.edge_u = Lift(3.0 * m.t);
-    dash.edge_v = Lift(0.12 * m.n);
-    dash.material = Material::kPaint;
-    c.world.AddClutterQuad(dash);
-  }
+  AddCentreLine(c);
 }
 
 FacadeStyle RandomStyle(Context& c) {
@@ -323,6 +327,141 @@ void AddCars(Context& c) {
   }
 }
 
+// The rural preset's roadside, per side in stretches of 40-120 m: a cutting (55 %: grassy slopes
+// rising 1-6 m in three strips whose run and steepness wander every 8 m, so the surface is locally
+// flat but no plane spans more than a strip) or an open field (a farm building 10-25 m back
+// now and then, trees); crash barriers along a third of the stretches. The ground quad is the road
+// and the fields.
+void AddCountryRoadside(Context& c) {
+  const double rh = c.o.road_half_width;
+  const double toe = rh + 1.5;  // the slopes start beyond the verge
+  for (const int side : {1, -1}) {
+    double s = 0.0;
+    while (s < c.street.length()) {
+      const double stretch = c.U(40.0, 120.0);
+      const double end = std::min(s + stretch, c.street.length());
+      const bool cutting = c.Chance(0.55);
+      if (c.Chance(0.35)) {  // a crash barrier: a metal band 0.5-0.8 m high on posts
+        for (double b = s; b + 4.0 <= end; b += 4.0) {
+          const Station m = At(c.street, b + 2.0);
+          Quad band;
+          band.origin = Lift(m.p + side * (rh + 0.5) * m.n - side * 2.0 * m.t, 0.5);
+          band.edge_u = Lift(side * 4.0 * m.t);
+          band.edge_v = Vector3d(0, 0, 0.3);
+          band.material = Material::kMetal;
+          c.world.AddClutterQuad(band);
+          Cylinder post;
+          post.base = Lift(m.p + side * (rh + 0.6) * m.n);
+          post.radius = 0.06;
+          post.height = 0.8;
+          post.material = Material::kMetal;
+          c.world.cylinders.push_back(post);
+        }
+      }
+      if (cutting) {
+        // Each strip's run and steepness wander from profile to profile.
+        double runs[3], steepness[3];
+        for (int strip = 0; strip < 3; ++strip) {
+          runs[strip] = c.U(1.2, 2.5);
+          steepness[strip] = c.U(0.25, 0.9);
+        }
+        for (double a = s; a + 8.0 <= end; a += 8.0) {
+          const Station m = At(c.street, a + 4.0);
+          double across = toe, height = 0.0;
+          for (int strip = 0; strip < 3; ++strip) {
+            runs[strip] = std::clamp(runs[strip] + c.U(-0.25, 0.25), 1.2, 2.5);
+            steepness[strip] = std::clamp(steepness[strip] + c.U(-0.12, 0.12), 0.25, 0.9);
+            const double run = runs[strip], rise = run * steepness[strip];
+            Quad slope;  // 0.3 m of overlap with the neighbours hides the steps between profiles
+            slope.origin = Lift(m.p + side * across * m.n - side * 4.3 * m.t, height);
+            slope.edge_u = Lift(side * 8.6 * m.t);
+            slope.edge_v = Lift(side * run * m.n, rise);
+            slope.material = Material::kFoliage;
+            slope.style = static_cast<int>(c.rng() % 1000u);
+            c.world.AddClutterQuad(slope);
+            across += run;
+            height += rise;
+          }
+          if (c.Chance(0.3)) {  // a tree on the top
+            Cylinder trunk;
+            trunk.base = Lift(m.p + side * (across + 1.0) * m.n, height);
+            trunk.radius = c.U(0.12, 0.22);
+            trunk.height = c.U(2.0, 3.0);
+            trunk.material = Material::kBark;
+            c.world.cylinders.push_back(trunk);
+            Sphere crown;
+            crown.center = trunk.base + Vector3d(0, 0, trunk.height + 1.2);
+            crown.radius = c.U(1.2, 2.0);
+            crown.material = Material::kFoliage;
+            c.world.spheres.push_back(crown);
+          }
+        }
+      } else {
+        if (c.Chance(0.4) && end - s > 30.0) {  // a farm building far back
+          const double width = c.U(10.0, 25.0), depth = c.U(8.0, 14.0);
+          const Station m = At(c.street, s + 0.5 * (end - s));
+          Building b;
+          b.footprint.axis_u = m.t;
+          b.footprint.axis_v = side * m.n;
+          b.footprint.half_u = 0.5 * width;
+          b.footprint.half_v = 0.5 * depth;
+          b.footprint.centre = m.p + side * (rh + c.U(10.0, 25.0) + 0.5 * depth) * m.n;
+          bool overlap = false;
+          for (const auto& other : c.occupied)
+            overlap = overlap || b.footprint.Overlaps(other, 0.05);
+          if (!overlap && c.Clear(b.footprint.Samples(2.0), rh + 8.0)) {
+            const FacadeStyle style = RandomStyle(c);
+            b.height = static_cast<int>(c.U(1.0, 3.0)) * style.floor_height + c.U(0.6, 1.5);
+            b.style = static_cast<int>(c.world.facade_styles.size());
+            c.world.facade_styles.push_back(style);
+            const Footprint& f = b.footprint;
+            c.world.buildings.push_back(
+                {f.centre, f.axis_u, f.axis_v, f.half_u, f.half_v, b.height});
+            c.occupied.push_back(b.footprint);
+            EmitBuilding(c, b);
+          }
+        }
+        for (double t = s + c.U(2.0, 10.0); t < end; t += c.U(8.0, 25.0)) {  // field trees
+          const Station m = At(c.street, t);
+          const Vector2d p = m.p + side * (rh + c.U(3.0, 15.0)) * m.n;
+          if (c.street.Distance(p) < rh + 2.5 || c.InsideBuilding(p, 2.0)) continue;
+          Cylinder trunk;
+          trunk.base = Lift(p);
+          trunk.radius = c.U(0.15, 0.3);
+          trunk.height = c.U(2.0, 3.5);
+          trunk.material = Material::kBark;
+          c.world.cylinders.push_back(trunk);
+          const int blobs = 4 + static_cast<int>(c.rng() % 4u);
+          for (int k = 0; k < blobs; ++k) {
+            Sphere crown;
+            crown.center =
+                trunk.base + Vector3d(c.U(-1.2, 1.2), c.U(-1.2, 1.2), trunk.height + c.U(0.6, 2.2));
+            crown.radius = c.U(1.0, 1.8);
+            crown.material = Material::kFoliage;
+            c.world.spheres.push_back(crown);
+          }
+        }
+      }
+      s = end;
+    }
+  }
+}
+
+void AddRoadMarkings(Context& c, double edge_offset) {
+  for (const auto& [s0, s1] : Chunks(c.street)) {
+    const Station m = At(c.street, 0.5 * (s0 + s1));
+    const double half = 0.5 * (s1 - s0);
+    for (const int side : {1, -1}) {
+      Quad line;  // solid edge line
+      line.origin = Lift(m.p - half * m.t + side * edge_offset * m.n, 0.01);
+      line.edge_u = Lift(2 * half * m.t);
+      line.edge_v = Lift(0.12 * m.n);
+      line.material = Material::kPaint;
+      c.world.AddClutterQuad(line);
+    }
+  }
+}
+
 }  // namespace
 
 void TownOptions::Check() const {
@@ -346,6 +485,12 @@ World BuildTown(const StreetPath& street, std::uint32_t seed, const TownOptions&
   std::mt19937 rng(seed);
   Context c{street, options, world, rng, {}};
   AddGround(c);
+  if (options.rural) {
+    AddCentreLine(c);
+    AddRoadMarkings(c, options.road_half_width - 0.36);
+    AddCountryRoadside(c);
+    return world;
+  }
   AddSidewalksAndMarkings(c);
   AddBuildings(c);
   if (options.clutter) {

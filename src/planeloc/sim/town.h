@@ -1,6 +1,7 @@
 // Procedural town along a street centre line: ground, raised sidewalks with curbs, lane
 // markings, buildings (box facades with varied widths, heights, set-backs, gaps and corners),
-// trees, poles with signs and parked cars. Fully determined by the street and the seed.
+// trees, poles with signs and parked cars; or, with TownOptions::rural, a country road. Fully
+// determined by the street and the seed.
 #pragma once
 
 #include <cstdint>
@@ -17,6 +18,11 @@ struct TownOptions {
   double curb_height = 0.12;     // metres, sidewalk top above the road
   double ground_margin = 150.0;  // metres of ground around the street (beyond LiDAR range)
   bool clutter = true;           // trees, poles, parked cars
+  // A country road instead of a street (`sim --preset rural`): no sidewalks, kerbs or parked cars;
+  // stretches of cutting (uneven grassy slopes rising beside the road, no plane of a facade's
+  // size) or open fields with a rare farm building far back; crash barriers; trees on the slopes
+  // and in the fields.
+  bool rural = false;
   void Check() const;
 };
 
