@@ -3,7 +3,7 @@
 #
 # Usage: scripts/bench.sh [--quick] [--fresh] [--no-build] [--drives "PRESET:SEED,... ..."]
 #                         [--no-robustness] [--no-map-lock] [--no-peers] [--no-room]
-#                         [--no-mutants]
+#                         [--no-mutants] [--no-prior-modes]
 #   --quick     under 5 minutes on a 2-core machine: the simulator's `tiny` drive (one seed) and a
 #               subset of the Google Benchmark programs with short minimum times
 #   (default)   every benchmark; `small` seeds 3, 11, 21 and `kitti07-like` seeds 1, 2 (about an
@@ -24,6 +24,9 @@
 #   --no-mutants  the full mode without issue 37's mutation checks (scripts/mutants.sh
 #               --update-doc: each key mechanism broken in turn in a worktree of its own, the
 #               table in docs/reliability.md; about 60 minutes on 2 cores, most of it builds)
+#   --no-prior-modes  the full mode without issue 34's same-run comparison of the prior modes
+#               (scripts/bench_prior_modes.py: small 3/11/21, rural 1/2/3, small 7 with changing
+#               lighting and kitti07-like 1/2; about 70 minutes when its drives must be made)
 #   --fresh     remake the cached simulator drives and plane maps (build/bench/data/)
 #   --no-build  use the binaries in the build folder as they are
 #   --drives    other simulated drives than the mode's, e.g. "small:3 kitti07-like:1" (the page
@@ -40,11 +43,13 @@ peers=1
 mutants=1
 live_view=1
 room=1
+prior_modes=1
 while [ $# -gt 0 ]; do
   case "$1" in
-    --quick) run_args+=(--quick); peers=0; mutants=0; live_view=0; room=0; shift ;;
+    --quick) run_args+=(--quick); peers=0; mutants=0; live_view=0; room=0; prior_modes=0; shift ;;
     --no-peers) peers=0; shift ;;
     --no-room) room=0; shift ;;
+    --no-prior-modes) prior_modes=0; shift ;;
     --no-mutants) mutants=0; shift ;;
     --fresh) run_args+=(--fresh); shift ;;
     --no-build) build=0; shift ;;
@@ -61,7 +66,8 @@ if [ "$build" = 1 ]; then
   PLANELOC_BUILD_DIR="$build_dir" "$root/scripts/build.sh"
 fi
 # A comparison from an earlier run never reaches this run's page.
-rm -f "$build_dir/bench/peers.json" "$build_dir/bench/live_view.json" "$build_dir/bench/room.json"
+rm -f "$build_dir/bench/peers.json" "$build_dir/bench/live_view.json" "$build_dir/bench/room.json" \
+  "$build_dir/bench/prior_modes.json"
 python3 "$root/scripts/bench_run.py" --build "$build_dir" --out "$build_dir/bench" "${run_args[@]}"
 if [ "$live_view" = 1 ]; then
   # Issue 36: fps with and without the live view (about 6 minutes).
@@ -70,6 +76,10 @@ fi
 if [ "$room" = 1 ]; then
   # Issue 35: the room preset (about 35 minutes with its simulation, 13 when cached).
   python3 "$root/scripts/bench_room.py" --build "$build_dir" --out "$build_dir/bench/room.json"
+fi
+if [ "$prior_modes" = 1 ]; then
+  # Issue 34: VO, planes, Kim et al., depth and hybrid on the same drives (about 70 minutes).
+  python3 "$root/scripts/bench_prior_modes.py" --build "$build_dir"
 fi
 if [ "$peers" = 1 ]; then
   PLANELOC_BUILD_DIR="$build_dir" "$root/scripts/bench_peers.sh" --out "$build_dir/bench"

@@ -22,6 +22,9 @@ has one, a ratio of its result to a reference measured in the same run:
                 ablation of the association's settings, each against the defaults
   peers         issue 33 (RESULTS/peers.json, scripts/bench_peers.py; bench_report_peers.py): the
                 real ORB-SLAM2 beside planeloc's VO and plane mode on the same drives
+  prior_modes   issue 34 (RESULTS/prior_modes.json, scripts/bench_prior_modes.py;
+                bench_report_prior_modes.py): VO, planes, Kim et al., depth and hybrid on the same
+                drives, with the goals met or not
   room          issue 35 (RESULTS/room.json, scripts/bench_room.py; bench_report_room.py): the
                 indoor room preset, VO and plane mode, coarse starts, the goals met or not
   processes     every process of the pipeline: wall time, CPU time, peak RSS
@@ -43,6 +46,7 @@ import sys
 import bench_report_map_lock
 import bench_report_peers
 import bench_report_live_view
+import bench_report_prior_modes
 import bench_report_room
 import bench_report_wrong_maps
 from bench_format import cell, code, mean_or_none, num, ratio, spread, table
@@ -101,7 +105,7 @@ def load(results):
     out["results"] = results
     for key, name in (("robustness", "robustness.json"), ("map_lock", "maplock.json"),
                       ("peers", "peers.json"), ("live_view", "live_view.json"),
-                      ("room", "room.json")):
+                      ("room", "room.json"), ("prior_modes", "prior_modes.json")):
         path = os.path.join(results, name)  # full mode only
         out[key] = None
         if os.path.exists(path):
@@ -495,6 +499,8 @@ def render(data):
         parts.append(bench_report_live_view.section(data["live_view"]))
     if data.get("room"):
         parts.append(bench_report_room.section(data["room"]))
+    if data.get("prior_modes"):
+        parts.append(bench_report_prior_modes.section(data["prior_modes"]))
     parts.append(
         "## Processes of the pipeline: time and peak RSS\n\n"
         "Peak RSS: `ru_maxrss` of the process (wait4). Simulator and map steps are cached under "

@@ -252,9 +252,10 @@ def path_length_m(poses_path):
     return length
 
 
-def prepare_drive(planeloc, data_dir, preset, seed, fresh):
-    """Simulator output and plane map of one drive, made once and reused (steps.json)."""
-    d = os.path.join(data_dir, f"{preset}-{seed}")
+def prepare_drive(planeloc, data_dir, preset, seed, fresh, lighting=None):
+    """Simulator output and plane map of one drive, made once and reused (steps.json); `lighting`
+    other than the simulator's default (e.g. "changing") is a drive of its own."""
+    d = os.path.join(data_dir, f"{preset}-{seed}" + (f"-{lighting}" if lighting else ""))
     steps_path = os.path.join(d, "steps.json")
     if fresh and os.path.exists(d):
         shutil.rmtree(d)
@@ -267,7 +268,7 @@ def prepare_drive(planeloc, data_dir, preset, seed, fresh):
     poses = os.path.join(sim, "poses", "00.txt")
     plan = [
         ("sim", [planeloc, "sim", "--out", sim, "--preset", preset, "--seed", str(seed),
-                 "--force"]),
+                 "--force"] + (["--lighting", lighting] if lighting else [])),
         ("map build", [planeloc, "map", "build", "--sequence", os.path.join(sim, "sequences", "00"),
                        "--poses", poses, "--out", map_pcd, "--voxel", "0.10"]),
         ("map planes", [planeloc, "map", "planes", "--map", map_pcd, "--out", planes]),
