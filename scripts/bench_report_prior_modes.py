@@ -105,7 +105,8 @@ def section(results):
         + "\n\nThe maps on disk (MB): planes.json against the map cloud (`map build` at 0.1 m, "
         "what `--map-cloud` reads; it voxelizes it to `DepthPrior.voxelSize` 0.2 m when loaded):\n\n"
         + table(["drive", "planes.json", "map.pcd", "ratio"], sizes)
-        + "\n\nThe goals of issue 34 item 4, on these data:\n\n"
+        + "\n\nThe goals of issue 34 item 4, on these data (why a goal is missed: docs/depth-prior.md, "
+        "\"The bench's goals\"):\n\n"
         + table(["goal", "measured", "verdict"], goals(drives)))
 
 

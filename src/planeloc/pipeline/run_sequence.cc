@@ -354,28 +354,38 @@ class CalibrationSpeedCheck {
 // with the likely causes; the run goes on (as visual odometry where the cloud has nothing).
 class MapCloudCoverageCheck {
  public:
-  explicit MapCloudCoverageCheck(std::string path) : path_(std::move(path)) {}
+  // `by_windows`: the frames are not refined (DepthPrior.frameRefinement off), so the evidence is
+  // the window BAs applied in those frames that had patch residuals.
+  MapCloudCoverageCheck(std::string path, bool by_windows)
+      : path_(std::move(path)), by_windows_(by_windows) {}
 
   void Add(const FrameStats& stats) {
     if (done_ || stats.skipped || stats.state == TrackingState::kLost || stats.frame == 0) return;
     ++tracked_;
-    refined_ += stats.depth_points.has_value() ? 1 : 0;
+    if (by_windows_) {
+      windows_ += stats.ba_keyframe.has_value() ? 1 : 0;
+      used_ += stats.ba_keyframe && stats.ba_plane_residuals.value_or(0) > 0 ? 1 : 0;
+    } else {
+      used_ += stats.depth_points.has_value() ? 1 : 0;
+    }
     if (tracked_ < kFrames) return;
     done_ = true;
-    if (2 * refined_ >= tracked_) return;
+    const int total = by_windows_ ? windows_ : tracked_;
+    if (total == 0 || 2 * used_ >= total) return;
     spdlog::warn(
-        "{}: the depth prior refined only {} of the first {} tracked frames: the map cloud has "
-        "too few points in view with a stereo depth near theirs. Likely causes: the cloud does "
-        "not cover the drive, or is in another frame than the initial pose (--init-pose / "
-        "--init-pose-from), or the stereo sees mostly what the map lacks. Frames without enough "
-        "points keep their visual-odometry pose (depth_points in --stats).",
-        path_, refined_, tracked_);
+        "{}: the map cloud was used in only {} of the first {} {}: it has too few points in "
+        "view near the stereo's. Likely causes: the cloud does not cover the drive, or is in "
+        "another frame than the initial pose (--init-pose / --init-pose-from), or the stereo sees "
+        "mostly what the map lacks. Those frames keep their visual-odometry pose ({} in --stats).",
+        path_, used_, total, by_windows_ ? "local BA windows" : "tracked frames",
+        by_windows_ ? "ba_plane_residuals" : "depth_points");
   }
 
  private:
   static constexpr int kFrames = 20;
   std::string path_;
-  int tracked_ = 0, refined_ = 0;
+  bool by_windows_;
+  int tracked_ = 0, windows_ = 0, used_ = 0;
   bool done_ = false;
 };
 
@@ -558,7 +568,10 @@ RunSummary RunSequence(const RunOptions& run) {
                           plane_map ? &*plane_map : nullptr);
   }
   std::optional<MapCloudCoverageCheck> coverage;
-  if (run.map_cloud_path) coverage.emplace(run.map_cloud_path->string());
+  const DepthPriorOptions& depth = summary.options.depth;
+  if (run.map_cloud_path && (depth.frame_refinement || (depth.window_surfaces && !plane_map))) {
+    coverage.emplace(run.map_cloud_path->string(), !depth.frame_refinement);
+  }
   TrackFrames(sequence, total, effective, calibration, run.realtime, tracker, writer, stats_out,
               progress, run.observer.get(), coverage ? &*coverage : nullptr, summary);
   tracker.Finish();
