@@ -66,9 +66,11 @@ class Tracker {
   // `start_prior`: how well world_from_cam_initial is known in the map frame; unless exact, the
   // run registers its structure to the plane map (map lock) before it uses the planes, and moves
   // its map into the map frame when it locks.
-  // `map_cloud`: the LiDAR map's points in that frame (`--prior depth`): each tracked frame's
-  // pose is refined with the depth-to-map residual (prior/depth_prior.h, options.depth) from the
-  // start as given; without it and without a plane map the tracker is visual odometry.
+  // `map_cloud`: the LiDAR map's points in that frame (`--prior depth`, or `hybrid` with
+  // `plane_map`): each tracked frame's pose is refined with the depth-to-map residual
+  // (prior/depth_prior.h, options.depth) and the window points on the cloud's flat patches get
+  // point-to-plane residuals (prior/cloud_surfaces.h); with a plane map only once it is locked.
+  // Without a plane map and a cloud the tracker is visual odometry.
   Tracker(const StereoCamera& camera, const TrackerOptions& options,
           const Rigid3d& world_from_cam_initial = Rigid3d::Identity(),
           const PlaneMap* plane_map = nullptr, const StartPrior& start_prior = {},
@@ -168,7 +170,7 @@ class Tracker {
   double CloseDepth() const { return options_.close_depth_baselines * camera_.baseline; }
 
   StereoCamera camera_;
-  TrackerOptions options_;  // options_.ba.lambda is 1 (visual BA) without a plane map
+  TrackerOptions options_;  // options_.ba.lambda is 1 (visual BA) without plane map and patches
   std::unique_ptr<PlaneAssociator> planes_;
   std::unique_ptr<PlaneEvidence> evidence_;  // with planes_ and options.record_plane_evidence
   OrbExtractor extractor_;
