@@ -21,7 +21,10 @@ map cloud, map.pcd at 0.1 m). scripts/bench_report_prior_modes.py renders the se
 docs/benchmarks.md.
 
 Usage: scripts/bench_prior_modes.py [--build build] [--out build/bench/prior_modes.json]
-                                    [--drives "small:3,11,21 rural:1,2,3"] [--no-long]
+                                    [--drives "small:3,11,21 rural:1,2,3"] [--no-long] [--resume]
+--resume keeps the drives the existing output already has without an error (an interrupted or
+--no-long run is completed by the drives it lacks); the page's date and commit are then the new
+run's, and the results of the kept drives say theirs.
 On 2 cores: about 30 minutes without the kitti07-like drives when the drives must be made, 20
 when they are cached; the two kitti07-like drives add about 40.
 """
@@ -109,6 +112,8 @@ def main():
     parser.add_argument("--drives", type=parse_drives, default=None,
                         help="replaces the constant-lighting drives, e.g. 'rural:1,2'")
     parser.add_argument("--no-long", action="store_true", help="without the kitti07-like drives")
+    parser.add_argument("--resume", action="store_true",
+                        help="keep the drives the existing output has without an error")
     args = parser.parse_args()
     out_dir = os.path.join(args.build, "bench")
     out = args.out or os.path.join(out_dir, "prior_modes.json")
@@ -118,8 +123,21 @@ def main():
     plan.append(LIGHTING_DRIVE)
     if not args.no_long and args.drives is None:
         plan += [(p, s, None) for p, seeds in LONG_DRIVES for s in seeds]
+    kept = {}
+    if args.resume and os.path.exists(out):
+        with open(out) as f:
+            previous = json.load(f)
+        for d in previous.get("drives", []):
+            if "error" not in d:
+                d.setdefault("measured", {"date": previous.get("date"),
+                                          "commit": previous.get("commit")})
+                kept[(d["preset"], d["seed"], d["lighting"])] = d
     drives = []
     for preset, seed, lighting in plan:
+        if (preset, seed, lighting or "constant") in kept:
+            print(f"--- {preset} seed {seed}: kept from {rel(out)}", flush=True)
+            drives.append(kept[(preset, seed, lighting or "constant")])
+            continue
         try:
             drives.append(one_drive(planeloc, data_dir, out_dir, preset, seed, lighting))
         except (BenchError, OSError, ValueError, KeyError) as e:  # no drive or no map
@@ -129,7 +147,8 @@ def main():
     result = {"date": datetime.date.today().isoformat(), "commit": tree_commit("-dirty"),
               "cpu": cpu_model(), "cpus": os.cpu_count(),
               "command": "scripts/bench_prior_modes.py" + (" --no-long" if args.no_long else "")
-              + ("" if args.drives is None else " --drives ..."),
+              + ("" if args.drives is None else " --drives ...")
+              + (f" --resume ({len(kept)} drives kept)" if args.resume else ""),
               "drives": drives}
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     with open(out, "w") as f:

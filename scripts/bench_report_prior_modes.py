@@ -82,6 +82,10 @@ def section(results):
     sizes = [[drive_name(d), num(d.get("planes_json_mb")), num(d.get("map_cloud_mb")),
               f"1/{d['map_cloud_mb'] / d['planes_json_mb']:.0f}"
               if d.get("planes_json_mb") else "—"] for d in drives if "error" not in d]
+    kept = [f"{drive_name(d)} ({d['measured']['date']}, {d['measured']['commit']})"
+            for d in drives if d.get("measured")]
+    kept_text = (" Kept from an earlier run of the script (`--resume`): " + ", ".join(kept) + "."
+                 if kept else "")
     return (
         f"{TITLE}\n\n"
         f"Measured {results['date']} at {results['commit']} on {results['cpu']} "
@@ -91,7 +95,7 @@ def section(results):
         "`--no-planes`; planes `--planes planes.json`; Kim et al. `--map-cloud map.pcd` with "
         "`DepthPrior.windowSurfaces: 0` (the depth-to-map residual in each frame's pose, as the "
         "paper); depth `--map-cloud map.pcd` (and the cloud's flat patches in the window BA); "
-        "hybrid both maps.\n\n"
+        f"hybrid both maps.{kept_text}\n\n"
         "ATE RMSE, no alignment (m):\n\n"
         + table(header, rows_of(drives, "ate3d_m", lambda x: num(x, 3)))
         + "\n\nKITTI t_rel (%, 100–800 m segments; — where the drive is shorter):\n\n"

@@ -273,5 +273,50 @@ class RoomReportTest(unittest.TestCase):
         self.assertIn("not measured on every seed | **not met** |", self.goal(text))
 
 
+class PriorModesSectionTest(unittest.TestCase):
+    """scripts/bench_report_prior_modes.py on drives written here: issue 34 item 4's goals, each
+    verdict worked out by hand below."""
+
+    @staticmethod
+    def drive(preset, seed, ates, fps, planes_mb=0.3, cloud_mb=30.0):
+        modes = ["vo", "plane", "kim", "depth", "hybrid"]
+        return {"preset": preset, "seed": seed, "lighting": "constant", "frames": 300,
+                "path_m": 300.0, "planes_json_mb": planes_mb, "map_cloud_mb": cloud_mb,
+                "runs": {m: {"ate3d_m": a, "fps": f, "cpu_ms_per_frame": 50.0,
+                             "peak_rss_mb": 150.0} for m, a, f in zip(modes, ates, fps)}}
+
+    def section(self, drives):
+        sys.path.insert(0, os.path.join(HERE, "..", "scripts"))
+        import bench_report_prior_modes
+        return bench_report_prior_modes.section({"date": "2026-12-05", "commit": "abc1234",
+                                                 "cpu": "Test CPU", "cpus": 2,
+                                                 "command": "x", "drives": drives})
+
+    def test_goals(self):
+        fps = [40.0, 36.0, 20.0, 18.0, 18.0]
+        # small 3: hybrid 0.05 <= min(0.06, 0.07); rural 1: hybrid 0.30 > min(0.5, 0.2): 1 of 2.
+        # rural 1 / VO 1.0: hybrid 0.30, depth 0.20, both <= 0.5. fps 36 / 18 = 2.00 on both.
+        # sizes 0.3 / 30 = 1/100, 0.3 / 3 = 1/10 at worst: not met.
+        text = self.section([self.drive("small", 3, [0.12, 0.06, 0.13, 0.07, 0.05], fps),
+                             self.drive("rural", 1, [1.0, 0.5, 1.1, 0.2, 0.3], fps,
+                                        cloud_mb=3.0)])
+        self.assertIn("| hybrid ATE ≤ min(planes, depth) on every drive | 1 of 2 drives | not met |",
+                      text)
+        self.assertIn("| rural drives: hybrid ATE ≤ 0.5× VO | 0.30 | met |", text)
+        self.assertIn("| rural drives: depth ATE ≤ 0.5× VO | 0.20 | met |", text)
+        self.assertIn("| median 2.00× (2.00–2.00) | not met |", text)
+        self.assertIn("| planes.json ≤ 1/20 of the map cloud's size | 1/10 at worst | not met |",
+                      text)
+        self.assertIn("| rural 1 | 1.000 | 0.500 | 1.100 | 0.200 | 0.300 |", text)
+
+    def test_a_failed_run_is_not_a_met_goal(self):
+        drive = self.drive("rural", 2, [1.0, 0.5, 1.1, 0.2, 0.3], [40.0, 60.0, 20.0, 18.0, 18.0])
+        drive["runs"]["depth"] = {"error": "exit 2"}
+        text = self.section([drive])
+        # the only rural drive has no depth ATE: not measured on every rural drive.
+        self.assertIn("| rural drives: depth ATE ≤ 0.5× VO | — | not met |", text)
+        self.assertIn("| rural 2 | 1.000 | 0.500 | 1.100 | failed | 0.300 |", text)
+
+
 if __name__ == "__main__":
     unittest.main()
