@@ -393,8 +393,9 @@ int Run(const RunArgs& args) {
   if (options.map_cloud_path) {
     spdlog::info(
         "depth prior: {} of {} frames refined against the map cloud ({} points), {:.0f} map "
-        "points per refined frame",
-        summary.depth_frames, summary.frames, summary.map_cloud_points, summary.mean_depth_points);
+        "points per refined frame, {} refinements refused (beyond DepthPrior.maxCorrection)",
+        summary.depth_frames, summary.frames, summary.map_cloud_points, summary.mean_depth_points,
+        summary.depth_refused);
   }
   spdlog::info("trajectory: {}", args.out);
   const std::string input = args.bag.empty() ? args.sequence : args.bag;

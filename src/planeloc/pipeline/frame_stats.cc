@@ -39,6 +39,7 @@ std::string FrameStats::ToJson() const {
   if (planes_disabled) json += fmt::format(",\"planes_disabled\":{}", *planes_disabled);
   if (depth_points) json += fmt::format(",\"depth_points\":{}", *depth_points);
   if (depth_residual_px) json += fmt::format(",\"depth_residual_px\":{:.3f}", *depth_residual_px);
+  if (depth_refused) json += ",\"depth_refused\":true";
   if (consensus_correction) {
     json +=
         fmt::format(",\"consensus_correction\":[{:.4f},{:.4f},{:.4f}]", consensus_correction->x(),

@@ -56,6 +56,9 @@ struct FrameStats {
   // at the refined pose (level-0 pixels of disparity); absent when the frame kept its visual pose.
   std::optional<int> depth_points;
   std::optional<double> depth_residual_px;
+  // The depth prior's refinement moved the pose beyond DepthPrior.maxCorrection: refused, the
+  // frame kept its visual pose.
+  bool depth_refused = false;
   // Plane mode, keyframes after the map lock: the LSD check of the map's creases (crease_check.h).
   std::optional<CreaseCheckStats> crease_check;
   // One JSON object on one line (the --stats format).

@@ -237,6 +237,7 @@ void SummarizeFrames(RunSummary& summary) {
       ++summary.depth_frames;
       summary.mean_depth_points += *s.depth_points;
     }
+    summary.depth_refused += s.depth_refused ? 1 : 0;
     if (s.consensus_correction) ++summary.consensus_corrections;
     if (s.crease_check) add_crease_check(*s.crease_check);
     if (s.ba_plane_residuals) {
@@ -642,9 +643,10 @@ std::string RunSummary::ToJson() const {
   }
   if (map_cloud_points > 0) {
     json.pop_back();
-    json +=
-        fmt::format(",\"map_cloud_points\":{},\"depth_frames\":{},\"mean_depth_points\":{:.1f}}}",
-                    map_cloud_points, depth_frames, mean_depth_points);
+    json += fmt::format(
+        ",\"map_cloud_points\":{},\"depth_frames\":{},\"mean_depth_points\":{:.1f},"
+        "\"depth_refused\":{}}}",
+        map_cloud_points, depth_frames, mean_depth_points, depth_refused);
   }
   if (!final_map_lock.empty()) {
     json.pop_back();

@@ -86,6 +86,7 @@ struct RunSummary {
   // and the map points used per refined frame, on average.
   std::size_t map_cloud_points = 0;
   int depth_frames = 0;
+  int depth_refused = 0;  // frames whose refinement went beyond DepthPrior.maxCorrection
   double mean_depth_points = 0;
   int consensus_corrections = 0;  // map moves by the planes' consensus (trajectoryConsensus)
   double seconds = 0;             // wall time of the tracking loop

@@ -199,6 +199,8 @@ const std::vector<Key>& Keys() {
       I("DepthPrior.maxPoints", [](O& o) -> int& { return o.depth.max_points; }),
       D("DepthPrior.occlusionMargin", [](O& o) -> double& { return o.depth.occlusion_margin; }),
       D("DepthPrior.edgeTolerance", [](O& o) -> double& { return o.depth.edge_tolerance; }),
+      D("DepthPrior.maxCorrection", [](O& o) -> double& { return o.depth.max_correction; }),
+      D("DepthPrior.maxCorrectionDeg", [](O& o) -> double& { return o.depth.max_correction_deg; }),
       B("DepthPrior.frameRefinement", [](O& o) -> bool& { return o.depth.frame_refinement; }),
       B("DepthPrior.windowSurfaces", [](O& o) -> bool& { return o.depth.window_surfaces; }),
       D("DepthPrior.surfaceRadius", [](O& o) -> double& { return o.depth.surfaces.radius; }),

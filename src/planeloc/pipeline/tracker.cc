@@ -107,6 +107,7 @@ void Tracker::RefineWithMapDepth(const DenseDisparity& disparity, Frame& frame, 
   }
   const DepthRefinement refined = RefinePoseWithMapDepth(camera_, frame.cam_from_world, visual,
                                                          *map_cloud_, disparity, options_.depth);
+  stats.depth_refused = refined.refused;
   if (!refined.applied) return;
   frame.cam_from_world = refined.cam_from_world;
   stats.depth_points = refined.selection.used;

@@ -10,6 +10,8 @@
 #include <limits>
 #include <memory>
 
+#include "planeloc/geometry/lie.h"
+
 namespace planeloc {
 
 ceres::CostFunction* DisparityToMapError::Create(const DenseDisparity& disparity,
@@ -215,6 +217,19 @@ DepthRefinement RefinePoseWithMapDepth(const StereoCamera& camera,
     result.applied = true;
   }
   result.cam_from_world = pose.ToRigid();
+  if (result.applied) {
+    const Rigid3d step = result.cam_from_world * cam_from_world_initial.Inverse();
+    const double moved =
+        (result.cam_from_world.Inverse().translation - cam_from_world_initial.Inverse().translation)
+            .norm();
+    const double turned = LogSO3(step.RotationMatrix()).norm() * 180.0 / M_PI;
+    if (moved > options.max_correction || turned > options.max_correction_deg) {
+      result.cam_from_world = cam_from_world_initial;
+      result.applied = false;
+      result.refused = true;
+      return result;
+    }
+  }
   if (result.applied) {
     std::vector<double> residuals;
     for (const Eigen::Vector3d& x : points) {

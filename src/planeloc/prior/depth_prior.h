@@ -121,8 +121,9 @@ class DisparityToMapError {
 
 struct DepthRefinement {
   Rigid3d cam_from_world;
-  DepthSelectionStats selection;      // at the pose the refinement started from
-  bool applied = false;               // false: too few map points, the pose is the initial one
+  DepthSelectionStats selection;  // at the pose the refinement started from
+  bool applied = false;           // false: too few map points, the pose is the initial one
+  bool refused = false;  // the refinement moved the pose beyond options.max_correction(_deg)
   double median_abs_residual_px = 0;  // of the used points at the refined pose, level-0 px
 };
 

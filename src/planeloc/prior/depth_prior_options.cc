@@ -33,6 +33,8 @@ void DepthPriorOptions::Check() const {
   positive(occlusion_margin, "occlusion_margin");
   positive(huber, "huber");
   positive(edge_tolerance, "edge_tolerance");
+  positive(max_correction, "max_correction");
+  positive(max_correction_deg, "max_correction_deg");
   if (!(zbuffer_relative >= 0))
     throw OptionsError("DepthPriorOptions.zbuffer_relative must be >= 0");
   if (min_points < 6) throw OptionsError("DepthPriorOptions.min_points must be >= 6");

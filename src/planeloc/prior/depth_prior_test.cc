@@ -226,6 +226,30 @@ TEST(RefinePoseWithMapDepth, RecoversAPerturbedPoseFromTheMapAlone) {
   }
 }
 
+// A refinement that would move the pose by more than DepthPrior.maxCorrection is refused: the
+// same map recovers a 0.8 m error when the bound allows it, and keeps the given pose when the
+// bound (0.5 m, the default) does not.
+TEST(RefinePoseWithMapDepth, RefusesACorrectionBeyondTheBound) {
+  const StereoCamera camera = KittiLikeCamera();
+  const Street street;
+  const DenseDisparity disparity = street.Render(camera, 2);
+  const MapCloudIndex map(street.MapPoints());
+  DepthPriorOptions options = StreetOptions();
+  const Rigid3d start = Perturbed(0.8, 0.0);
+  options.max_correction = 2.0;
+  const DepthRefinement allowed =
+      RefinePoseWithMapDepth(camera, start, {}, map, disparity, options);
+  ASSERT_TRUE(allowed.applied);
+  EXPECT_FALSE(allowed.refused);
+  EXPECT_LT(allowed.cam_from_world.translation.norm(), 0.1);  // moved about 0.8 m back
+  options.max_correction = 0.5;
+  const DepthRefinement refused =
+      RefinePoseWithMapDepth(camera, start, {}, map, disparity, options);
+  EXPECT_FALSE(refused.applied);
+  EXPECT_TRUE(refused.refused);
+  EXPECT_EQ(refused.cam_from_world.translation, start.translation);
+}
+
 // A van that the map does not have stands in front of the right facade: the facade's map points
 // behind it are occluded (not evidence). With the occlusion test switched off (a margin beyond
 // any depth) they pull the pose off. Measured 2026-12-05: 0.023 m with the test (the road just
