@@ -23,6 +23,7 @@
 #include "planeloc/io/plane_map.h"
 #include "planeloc/io/point_cloud.h"
 #include "planeloc/pipeline/keyframe_overlay.h"
+#include "planeloc/pipeline/run_checks.h"
 #include "planeloc/util/error.h"
 #include "planeloc/util/progress.h"
 #include "planeloc/util/safe_file.h"
@@ -309,86 +310,6 @@ std::optional<PlaneMap> ReadRunPlaneMap(const RunOptions& run) {
   }
   return plane_map;
 }
-
-// A wrong stereo baseline scales the whole trajectory: bf x 100 turns a car at 10 m/s into one
-// at 1 km/s, with nothing else looking wrong. Over the first half second of camera time the speed
-// is checked against what any vehicle or handheld rig can do. Throws InputError naming the
-// calibration (the frames written so far stay in the trajectory file).
-class CalibrationSpeedCheck {
- public:
-  explicit CalibrationSpeedCheck(std::string calibration) : calibration_(std::move(calibration)) {}
-
-  void Add(const StereoSource& sequence, std::size_t i, const Rigid3d& world_from_cam) {
-    if (done_) return;
-    if (i == 0) {
-      first_position_ = world_from_cam.translation;
-      return;
-    }
-    const double seconds = sequence.timestamp(i) - sequence.timestamp(0);
-    if (seconds < kWindowSeconds || i < kMinFrames) return;
-    done_ = true;
-    const double speed = (world_from_cam.translation - first_position_).norm() / seconds;
-    if (speed <= kMaxSpeed) return;
-    throw InputError(
-        calibration_, 0,
-        fmt::format("the stereo calibration makes the camera move at {:.0f} m/s over the first "
-                    "{:.1f} s (frames 0-{}; at most {:.0f} m/s is plausible): its baseline "
-                    "(bf = fx x baseline in metres) is wrong, about {:.0f}x too large for a "
-                    "camera at 10 m/s",
-                    speed, seconds, i, kMaxSpeed, speed / kTypicalSpeed),
-        "correct the baseline (the settings' Camera.bf, or the right camera's projection P1 / "
-        "P_rect_01 in calib.txt); with --calib-from-settings, try without it");
-  }
-
- private:
-  static constexpr double kWindowSeconds = 0.5;
-  static constexpr std::size_t kMinFrames = 5;
-  static constexpr double kMaxSpeed = 100.0;     // m/s, 360 km/h
-  static constexpr double kTypicalSpeed = 10.0;  // m/s, for the factor in the message
-  std::string calibration_;
-  Eigen::Vector3d first_position_ = Eigen::Vector3d::Zero();
-  bool done_ = false;
-};
-
-// The depth prior's map cloud must lie around the drive, in the frame of the initial pose. Over
-// the first tracked frames, a cloud that refined fewer than half of them is named in a warning
-// with the likely causes; the run goes on (as visual odometry where the cloud has nothing).
-class MapCloudCoverageCheck {
- public:
-  // `by_windows`: the frames are not refined (DepthPrior.frameRefinement off), so the evidence is
-  // the window BAs applied in those frames that had patch residuals.
-  MapCloudCoverageCheck(std::string path, bool by_windows)
-      : path_(std::move(path)), by_windows_(by_windows) {}
-
-  void Add(const FrameStats& stats) {
-    if (done_ || stats.skipped || stats.state == TrackingState::kLost || stats.frame == 0) return;
-    ++tracked_;
-    if (by_windows_) {
-      windows_ += stats.ba_keyframe.has_value() ? 1 : 0;
-      used_ += stats.ba_keyframe && stats.ba_plane_residuals.value_or(0) > 0 ? 1 : 0;
-    } else {
-      used_ += stats.depth_points.has_value() ? 1 : 0;
-    }
-    if (tracked_ < kFrames) return;
-    done_ = true;
-    const int total = by_windows_ ? windows_ : tracked_;
-    if (total == 0 || 2 * used_ >= total) return;
-    spdlog::warn(
-        "{}: the map cloud was used in only {} of the first {} {}: it has too few points in "
-        "view near the stereo's. Likely causes: the cloud does not cover the drive, or is in "
-        "another frame than the initial pose (--init-pose / --init-pose-from), or the stereo sees "
-        "mostly what the map lacks. Those frames keep their visual-odometry pose ({} in --stats).",
-        path_, used_, total, by_windows_ ? "local BA windows" : "tracked frames",
-        by_windows_ ? "ba_plane_residuals" : "depth_points");
-  }
-
- private:
-  static constexpr int kFrames = 20;
-  std::string path_;
-  bool by_windows_;
-  int tracked_ = 0, windows_ = 0, used_ = 0;
-  bool done_ = false;
-};
 
 // Tracks frames [0, total) of the sequence, writing each pose and stats line as it comes.
 void TrackFrames(const StereoSource& sequence, std::size_t total,
