@@ -47,6 +47,15 @@ run() {
   fi
 }
 
+# Debian packages the peer needs beyond planeloc's (scripts/setup.sh): Pangolin's OpenGL/GLEW.
+# A fresh machine without them fails deep in Pangolin's CMake; say so here instead.
+missing=()
+for pkg in libglew-dev libgl-dev libegl-dev libopencv-dev libeigen3-dev; do
+  dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+done
+((${#missing[@]} == 0)) ||
+  die "Debian packages missing: ${missing[*]} (install them: apt-get install -y ${missing[*]})"
+
 for a in "$orb_archive" "$pangolin_archive"; do
   [[ -f "$a" ]] || die "archive missing: $a (set PLANELOC_PEERS_DIR to the folder that holds it)"
 done
