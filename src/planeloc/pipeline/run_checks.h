@@ -26,11 +26,10 @@ class CalibrationSpeedCheck {
   // (at least 5 frames) moved faster than 100 m/s; the frames written so far stay written.
   void Add(const StereoSource& sequence, std::size_t i, const Rigid3d& world_from_cam);
 
+ private:
   static constexpr double kWindowSeconds = 0.5;
   static constexpr std::size_t kMinFrames = 5;
-  static constexpr double kMaxSpeed = 100.0;  // m/s, 360 km/h
-
- private:
+  static constexpr double kMaxSpeed = 100.0;     // m/s, 360 km/h
   static constexpr double kTypicalSpeed = 10.0;  // m/s, for the factor in the message
   std::string calibration_;
   Eigen::Vector3d first_position_ = Eigen::Vector3d::Zero();
