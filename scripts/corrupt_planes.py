@@ -120,6 +120,11 @@ def main():
                 for r in (rotate([q[k] - c[k] for k in range(3)], axis, angle)
                           for q in p.get("polygon", []))
             ]
+            # The map's uncertainty axes turn with the plane (the reader requires the major axis
+            # to lie in the plane).
+            sigma = p.get("sigma")
+            if sigma and "major_axis" in sigma:
+                sigma["major_axis"] = normalized(rotate(sigma["major_axis"], axis, angle))
             what = f"rotated {args.rotate_deg:.1f} deg"
         print(f"plane {p['id']} ({p.get('kind', '')}, {p.get('area', 0):.0f} m^2) {what}",
               file=sys.stderr)
