@@ -61,6 +61,7 @@ struct RunArgs {
   int frames = 0;
   std::string report_dir;
   std::string map_update;
+  std::string out_final;
   bool view = false;         // --view given (with or without an address)
   std::string view_address;  // "", "PORT", "HOST" or "HOST:PORT"
   bool view_wait = false;
@@ -229,6 +230,7 @@ void CheckRunArgs(const RunArgs& args) {
   CheckOutputPaths({{"--out", args.out},
                     {"--stats", args.stats},
                     {"--map-update", args.map_update},
+                    {"--out-final", args.out_final},
                     {"the settings echo (--out + .config.yaml)", args.out + ".config.yaml"}},
                    {{"--init-pose-from", args.init_pose_from},
                     {"--planes", args.planes},
@@ -274,6 +276,7 @@ RunOptions MakeRunOptions(const RunArgs& args) {
   options.calibration_from_settings = args.calib_from_settings;
   if (!args.planes.empty()) options.planes_path = args.planes;
   if (!args.map_update.empty()) options.map_update_path = args.map_update;
+  if (!args.out_final.empty()) options.final_trajectory_path = args.out_final;
   if (!args.map_cloud.empty()) options.map_cloud_path = args.map_cloud;
   if (!args.init_sigma.empty() && args.no_planes) {
     spdlog::warn(
@@ -468,6 +471,11 @@ const CommandRegistrar kRegistrar("run", [](CLI::App& app) -> CommandRunner {
                   "registration searches at most S_XY <= 10 m, S_Z <= 2 m, S_YAW_DEG <= 15 deg; "
                   "wider values are refused (exit 2)");
   cmd->add_option("--out", args->out, "Output trajectory (one pose per frame)")->required();
+  cmd->add_option("--out-final", args->out_final,
+                  "Also write, at the end, the trajectory in the map frame as the run knows it "
+                  "then: the frames tracked before the map lock (in the frame of the start "
+                  "prior) re-expressed by the lock's correction. --out keeps each frame as it was "
+                  "tracked (docs/map-registration.md)");
   cmd->add_option("--format", args->format, "kitti | tum")
       ->check(CLI::IsMember({"kitti", "tum"}))
       ->capture_default_str();

@@ -22,6 +22,7 @@
 #include "planeloc/io/map_updates.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/io/point_cloud.h"
+#include "planeloc/pipeline/final_trajectory.h"
 #include "planeloc/pipeline/keyframe_overlay.h"
 #include "planeloc/pipeline/run_checks.h"
 #include "planeloc/util/error.h"
@@ -498,6 +499,15 @@ RunSummary RunSequence(const RunOptions& run) {
               progress, run.observer.get(), coverage ? &*coverage : nullptr, summary);
   tracker.Finish();
   writer.Close();
+  if (run.final_trajectory_path) {
+    const std::vector<Rigid3d> final_poses =
+        ReexpressBeforeLock(summary.world_from_cam, summary.stats, tracker.lock_events());
+    TrajectoryWriter final_writer(*run.final_trajectory_path, run.format);
+    for (std::size_t i = 0; i < final_poses.size(); ++i) {
+      final_writer.Write(sequence.timestamp(i), final_poses[i]);
+    }
+    final_writer.Close();
+  }
   if (stats_out) stats_out->Commit();
   if (progress) progress->Finish();
   summary.ba = tracker.ba_counts();

@@ -31,6 +31,10 @@ struct RunOptions {
   std::filesystem::path trajectory_path;  // required
   TrajectoryFormat format = TrajectoryFormat::kKitti;
   std::optional<std::filesystem::path> stats_path;  // JSON lines, one per frame
+  // Written at the end, in `format`: every frame in the map frame as the run knows it then, the
+  // frames tracked before the map lock re-expressed by the lock's correction
+  // (pipeline/final_trajectory.h). trajectory_path keeps each frame as it was tracked.
+  std::optional<std::filesystem::path> final_trajectory_path;
   // One JSON object with the end-of-run summary (RunSummary::ToJson); `planeloc run --stats X`
   // writes it to X.summary.json.
   std::optional<std::filesystem::path> summary_path;

@@ -618,6 +618,8 @@ void Tracker::LockBookkeeping(const MapCorrection& correction, int frame_id) {
 
 void Tracker::Finish() {
   FrameStats ignored;
+  // A lock applied now comes after every frame given (its LockEvent says so).
+  ignored.frame = next_frame_id_;
   ApplyBaResults(ignored, /*wait=*/true);
   ApplyLockResults(ignored, nullptr, /*wait=*/true);
   // The last keyframe's deferred BA: solved and applied, so that every keyframe is accounted for.
