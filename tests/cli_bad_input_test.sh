@@ -220,6 +220,8 @@ else
 fi
 expect_error "run --map-update without --planes" "--planes" -- \
   "$planeloc" run --sequence "$work/nope" --no-planes --map-update "$work/u.json" --out "$work/t.txt"
+expect_error "run --out-final onto --out" "--out-final name the same file" -- \
+  "$planeloc" run --sequence "$work/nope" --no-planes --out "$work/t.txt" --out-final "$work/t.txt"
 
 # The live view's flags (issue 36): each alone is refused before any work.
 expect_error "run --view-wait without --view" "--view-wait needs --view" -- \
