@@ -51,6 +51,11 @@ def draws(rows, tag):
         locked = [r for r in ok if r.get("lock_frame") is not None]
         ratios = [r["ate_after_lock_m"] / r["ate_exact_start_same_frames_m"] for r in locked]
         above_vo = sum(1 for r in ok if r["ate_all_frames_m"] > r["ate_vo_all_frames_m"])
+        # Rows from before --out-final have no final ATE.
+        final = [r for r in ok if r.get("ate_all_frames_final_m") is not None]
+        above_vo_final = (str(sum(1 for r in final
+                                  if r["ate_all_frames_final_m"] > r["ate_vo_all_frames_m"]))
+                          if final else "—")
         mean = (lambda xs: sum(xs) / len(xs) if xs else None)
         out.append([
             f"{preset} {seed}", str(len(runs)), f"{len(locked)} / {len(runs)}",
@@ -59,6 +64,7 @@ def draws(rows, tag):
             num(mean([r["ate_exact_start_same_frames_m"] for r in locked]), 4),
             bound_cell(max(ratios) if ratios else None, AFTER_LOCK_BOUND),
             str(sum(1 for x in ratios if x > AFTER_LOCK_BOUND)), str(above_vo),
+            num(mean([r["ate_all_frames_final_m"] for r in final]), 4), above_vo_final,
             f"{sum(r['corrections'] - r['corrections_beyond_3sigma'] for r in ok)} / "
             f"{sum(r['corrections'] for r in ok)}",
             str(sum(1 for r in ok if r["max_planes_disabled"] > 0)), tag])
@@ -94,10 +100,13 @@ def section(data, tag):
             "seeded). *after the lock*: ATE from the first full lock to the end, mean over the "
             "draws that locked; *exact, same frames*: the exact start on those frames; *worst "
             f"ratio*: the worst draw's ratio of the two (bound {AFTER_LOCK_BOUND}); *above VO*: "
-            "draws whose ATE over all frames is above VO's.\n\n"
+            "draws whose ATE over all frames is above VO's, with `--out` (each frame as tracked: "
+            "before the lock in the prior's frame) and with `--out-final` (the frames before the "
+            "lock re-expressed by its correction; *all frames, final*: its mean ATE).\n\n"
             + table(["drive", "draws", "locked", "wrong locks", "after the lock",
                      "exact, same frames", "worst ratio", f"draws above {AFTER_LOCK_BOUND}×",
-                     "above VO", "corrections within 3σ", "runs with planes disabled",
+                     "above VO", "all frames, final", "above VO, final",
+                     "corrections within 3σ", "runs with planes disabled",
                      "measured"], draws(draw_rows, tag)))
     if failed:
         parts.append("Failed runs: " + ", ".join(
