@@ -21,17 +21,25 @@ FrameStats Frame(int id, const char* map_lock, std::optional<int> keyframe_id = 
   return stats;
 }
 
-void ExpectAt(const Rigid3d& pose, double x, double y, double z) {
-  EXPECT_NEAR(pose.translation.x(), x, 1e-12);
-  EXPECT_NEAR(pose.translation.y(), y, 1e-12);
-  EXPECT_NEAR(pose.translation.z(), z, 1e-12);
+// Frames 1 m apart along z, frame i at z = i.
+std::vector<Rigid3d> AlongZ(int frames) {
+  std::vector<Rigid3d> poses;
+  for (int i = 0; i < frames; ++i) poses.push_back(At(0, 0, i));
+  return poses;
+}
+
+void ExpectPositions(const std::vector<Rigid3d>& poses,
+                     const std::vector<Eigen::Vector3d>& expected) {
+  ASSERT_EQ(poses.size(), expected.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    EXPECT_NEAR((poses[i].translation - expected[i]).norm(), 0, 1e-12) << "frame " << i;
+  }
 }
 
 TEST(FinalTrajectoryTest, FramesBeforeALockTakeTheCorrectionsThatCameAfterThem) {
   // Frames 0-1 searching, 2-3 after a partial lock (+1 m x), 4-5 after the full lock (+2 m y);
   // frame 5 also saw a re-registration (+3 m z), which corrects drift: no earlier frame takes it.
-  const std::vector<Rigid3d> tracked = {At(0, 0, 0), At(0, 0, 1), At(0, 0, 2),
-                                        At(0, 0, 3), At(0, 0, 4), At(0, 0, 5)};
+  const std::vector<Rigid3d> tracked = AlongZ(6);
   const std::vector<FrameStats> stats = {Frame(0, "searching", 0), Frame(1, "searching"),
                                          Frame(2, "partial", 1),   Frame(3, "partial"),
                                          Frame(4, "locked", 2),    Frame(5, "locked")};
@@ -39,13 +47,7 @@ TEST(FinalTrajectoryTest, FramesBeforeALockTakeTheCorrectionsThatCameAfterThem) 
                                          {4, MapLock::kLocked, At(0, 2, 0), 0, false},
                                          {5, MapLock::kLocked, At(0, 0, 3), 0, true}};
   const std::vector<Rigid3d> final_poses = ReexpressBeforeLock(tracked, stats, events);
-  ASSERT_EQ(final_poses.size(), 6u);
-  ExpectAt(final_poses[0], 1, 2, 0);
-  ExpectAt(final_poses[1], 1, 2, 1);
-  ExpectAt(final_poses[2], 0, 2, 2);
-  ExpectAt(final_poses[3], 0, 2, 3);
-  ExpectAt(final_poses[4], 0, 0, 4);
-  ExpectAt(final_poses[5], 0, 0, 5);
+  ExpectPositions(final_poses, {{1, 2, 0}, {1, 2, 1}, {0, 2, 2}, {0, 2, 3}, {0, 0, 4}, {0, 0, 5}});
 }
 
 TEST(FinalTrajectoryTest, ARotationTurnsTheEarlierFramesWithTheMap) {
@@ -57,30 +59,23 @@ TEST(FinalTrajectoryTest, ARotationTurnsTheEarlierFramesWithTheMap) {
   const std::vector<Rigid3d> final_poses = ReexpressBeforeLock(
       {At(1, 0, 0), At(0, 0, 0)}, {Frame(0, "searching", 0), Frame(1, "locked")},
       {{1, MapLock::kLocked, turn, 0, false}});
-  ExpectAt(final_poses[0], 0, 0, -1);
+  ExpectPositions(final_poses, {{0, 0, -1}, {0, 0, 0}});
   EXPECT_NEAR(
       (final_poses[0].RotationMatrix() * Eigen::Vector3d::UnitZ() - Eigen::Vector3d::UnitX())
           .norm(),
       0, 1e-12);
-  ExpectAt(final_poses[1], 0, 0, 0);
 }
 
 TEST(FinalTrajectoryTest, ALockOfALaterSegmentAndFramesLockedBeforeStay) {
   // Locked over frames 0-1; frame 2 lost (no state recorded: still locked); frame 3 restarts a
   // segment at keyframe 5 that searches and locks at frame 5.
-  const std::vector<Rigid3d> tracked = {At(0, 0, 0), At(0, 0, 1), At(0, 0, 2),
-                                        At(0, 0, 3), At(0, 0, 4), At(0, 0, 5)};
+  const std::vector<Rigid3d> tracked = AlongZ(6);
   const std::vector<FrameStats> stats = {Frame(0, "locked", 0), Frame(1, "locked", 4),
                                          Frame(2, ""),          Frame(3, "searching", 5),
                                          Frame(4, "searching"), Frame(5, "locked", 6)};
   const std::vector<Rigid3d> final_poses =
       ReexpressBeforeLock(tracked, stats, {{5, MapLock::kLocked, At(1, 0, 0), 5, false}});
-  ExpectAt(final_poses[0], 0, 0, 0);
-  ExpectAt(final_poses[1], 0, 0, 1);
-  ExpectAt(final_poses[2], 0, 0, 2);
-  ExpectAt(final_poses[3], 1, 0, 3);
-  ExpectAt(final_poses[4], 1, 0, 4);
-  ExpectAt(final_poses[5], 0, 0, 5);
+  ExpectPositions(final_poses, {{0, 0, 0}, {0, 0, 1}, {0, 0, 2}, {1, 0, 3}, {1, 0, 4}, {0, 0, 5}});
 }
 
 TEST(FinalTrajectoryTest, ALockAtTheEndOfTheRunReachesEveryUnlockedFrame) {
@@ -88,8 +83,7 @@ TEST(FinalTrajectoryTest, ALockAtTheEndOfTheRunReachesEveryUnlockedFrame) {
   const std::vector<Rigid3d> final_poses = ReexpressBeforeLock(
       {At(0, 0, 0), At(0, 0, 1)}, {Frame(0, "searching", 0), Frame(1, "partial")},
       {{2, MapLock::kLocked, At(0, 1, 0), 0, false}});
-  ExpectAt(final_poses[0], 0, 1, 0);
-  ExpectAt(final_poses[1], 0, 1, 1);
+  ExpectPositions(final_poses, {{0, 1, 0}, {0, 1, 1}});
 }
 
 }  // namespace
