@@ -67,6 +67,7 @@ struct LiveView::Impl {
   std::string three_js;  // <script> elements
   httplib::Server server;
   std::thread server_thread;
+  std::atomic<bool> listen_returned = false;  // server_thread's listen_after_bind() returned
   std::thread publisher_thread;
   int port = 0;
 
@@ -330,7 +331,22 @@ std::shared_ptr<LiveView> LiveView::Start(const LiveViewOptions& options) {
                "pass a local address, e.g. --view 127.0.0.1 (the default)");
   }
   Impl* raw = impl.get();
-  impl->server_thread = std::thread([raw] { raw->server.listen_after_bind(); });
+  impl->server_thread = std::thread([raw] {
+    raw->server.listen_after_bind();
+    raw->listen_returned = true;
+  });
+  // cpp-httplib's stop() does nothing until listen_after_bind() has marked the server running,
+  // and the accept loop it starts after that never ends: a view stopped right after Start() hung
+  // in Stop()'s join (the `view` test, once under CI load, until ctest's 900 s timeout). So the
+  // view exists only once its server runs.
+  while (!impl->server.is_running() && !impl->listen_returned) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (!impl->server.is_running()) {
+    impl->server_thread.join();
+    CheckInput(false, address, 0, "--view: the server stopped as it started",
+               "pass another address or port (--view 127.0.0.1:PORT)");
+  }
   impl->publisher_thread = std::thread([raw] { raw->PublishLoop(); });
   return std::shared_ptr<LiveView>(new LiveView(std::move(impl)));
 }
