@@ -25,8 +25,13 @@ camera; for "no alignment" they are put into the GT frame by the first GT pose
 each frame as it was tracked (its file, written frame by frame like planeloc's); its end-of-run
 keyframe trajectory (SaveTrajectoryKITTI) is evaluated too, as `ate_final_*`.
 
+Then the real KITTI raw drive 0001 (108 frames; $PLANELOC_SHARED_DATA or ../shared/data), put into
+the odometry layout by scripts/peers/kitti_raw_as_odometry.py (links, no copies) so that both
+programs read the same files: ORB-SLAM2 and planeloc VO only, for speed and tracking (it has no
+ground truth and no LiDAR map).
+
 Usage: scripts/bench_peers.py [--build build] [--out BUILD/bench] [--repeats 3]
-                              [--drives "small:3,11,21 kitti07-like:1,2"]
+                              [--drives "small:3,11,21 kitti07-like:1,2"] [--real RAW | --no-real]
 """
 import argparse
 import json
@@ -44,6 +49,12 @@ VOCABULARY = os.path.join(PEERS, "vocabulary", "orbvoc.txt")
 STAMP = os.path.join(PEERS, ".orbslam2.stamp")
 DEFAULT_DRIVES = [("small", [3, 11, 21]), ("kitti07-like", [1, 2])]
 ROWS = ["orbslam2", "vo", "planes-exact", "planes-prior", "planes-realtime"]
+# The real drive: no ground truth and no LiDAR map (../shared/data/README.md), so speed and
+# tracking of ORB-SLAM2 and planeloc VO only.
+SHARED_DATA = os.environ.get("PLANELOC_SHARED_DATA",
+                             os.path.join(os.path.dirname(ROOT), "shared", "data"))
+REAL_DRIVE = os.path.join(SHARED_DATA, "kitti-raw-2011_09_26_drive_0001")
+REAL_ROWS = ["orbslam2", "vo"]
 
 
 def read_kitti(path):
@@ -93,9 +104,8 @@ def evaluate(planeloc, gt, est, prefix, kitti):
     return result
 
 
-def run_orbslam2(planeloc, drive, data, out_prefix, settings):
-    seq = os.path.join(data, "sim", "sequences", "00")
-    gt = os.path.join(data, "sim", "poses", "00.txt")
+def run_orbslam2(planeloc, drive, seq, gt, out_prefix, settings):
+    """`gt` None: a real drive without ground truth (speed and tracking only)."""
     est = out_prefix + ".txt"
     cmd = [RUNNER, VOCABULARY, settings, seq, est]
     record = {"command": command_text(cmd)}
@@ -116,6 +126,8 @@ def run_orbslam2(planeloc, drive, data, out_prefix, settings):
                    "map_resets": max((int(r["map_id"]) for r in rows), default=0),
                    "loop_s": loop_s, "fps": len(rows) / max(loop_s, 1e-9),
                    "median_track_ms": statistics.median(float(r["track_ms"]) for r in rows)})
+    if gt is None:
+        return record
     in_gt = out_prefix + ".gtframe.txt"
     into_gt_frame(est, gt, in_gt)
     kitti = drive["path_m"] >= bench_run.KITTI_MIN_PATH_M
@@ -131,14 +143,13 @@ def run_orbslam2(planeloc, drive, data, out_prefix, settings):
     return record
 
 
-def run_planeloc(planeloc, drive, data, out_prefix, row):
-    seq = os.path.join(data, "sim", "sequences", "00")
-    gt = os.path.join(data, "sim", "poses", "00.txt")
-    cmd = [planeloc, "run", "--sequence", seq, "--init-pose-from", gt]
+def run_planeloc(planeloc, drive, seq, gt, planes, out_prefix, row):
+    """`gt` None: a real drive, started at the identity, without evaluation."""
+    cmd = [planeloc, "run", "--sequence", seq] + (["--init-pose-from", gt] if gt else [])
     if row == "vo":
         cmd.append("--no-planes")
     else:
-        cmd += ["--planes", os.path.join(data, "planes.json")]
+        cmd += ["--planes", planes]
         if row in ("planes-exact", "planes-realtime"):
             cmd += ["--init-sigma", "0 0 0"]
         if row == "planes-realtime":
@@ -158,6 +169,8 @@ def run_planeloc(planeloc, drive, data, out_prefix, row):
                    "fps": summary["frames"] / max(summary["seconds"], 1e-9)})
     for key, value in summary.get("latency_ms", {}).items():
         record[f"latency_{key}_ms"] = value
+    if gt is None:
+        return record
     kitti = drive["path_m"] >= bench_run.KITTI_MIN_PATH_M
     record.update(evaluate(planeloc, gt, out_prefix + ".txt", out_prefix, kitti))
     return record
@@ -191,6 +204,11 @@ def main():
     parser.add_argument("--out", help="results folder (default: BUILD/bench)")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--drives", type=bench_run.parse_drives, default=DEFAULT_DRIVES)
+    parser.add_argument("--real", default=REAL_DRIVE,
+                        help="a KITTI raw drive (synced, rectified) run for speed and tracking "
+                             "only, ORB-SLAM2 and planeloc VO (default: the shared data's 0001 "
+                             "when it is there)")
+    parser.add_argument("--no-real", action="store_true", help="without the real drive")
     args = parser.parse_args()
     out = args.out or os.path.join(args.build, "bench")
     planeloc = os.path.join(args.build, "bin", "planeloc")
@@ -208,35 +226,51 @@ def main():
     result = {"date_start": now_utc(), "commit": bench_run.git("rev-parse", "--short=7", "HEAD"),
               "load_start": os.getloadavg(), "repeats": args.repeats,
               "vocabulary": rel(VOCABULARY), "runner": rel(RUNNER), "drives": []}
+    def compare(preset, seed, seq, gt, planes, rows, drive):
+        runs_dir = os.path.join(runs_root, f"{preset}-{seed}".replace(" ", "-"))
+        os.makedirs(runs_dir, exist_ok=True)
+        settings = os.path.join(runs_dir, "orbslam2.yaml")
+        run_measured([sys.executable, os.path.join(ROOT, "scripts", "peers",
+                                                   "orbslam2_settings.py"), seq, "-o", settings],
+                     os.path.join(runs_dir, "settings.log"))
+        runs = {row: [] for row in rows}
+        for repeat in range(args.repeats):
+            for row in rows:
+                print(f"--- peers {preset} {seed}: {row}, round {repeat + 1}", flush=True)
+                prefix = os.path.join(runs_dir, f"{row}.{repeat}")
+                if row == "orbslam2":
+                    record = run_orbslam2(planeloc, drive, seq, gt, prefix, settings)
+                else:
+                    record = run_planeloc(planeloc, drive, seq, gt, planes, prefix, row)
+                runs[row].append(record)
+        result["drives"].append({
+            "preset": preset, "seed": seed, "frames": drive["frames"], "path_m": drive["path_m"],
+            "ground_truth": gt is not None, "runs": runs,
+            "summary": {row: summarize(runs[row]) for row in rows}})
+        with open(os.path.join(out, "peers.json"), "w") as f:  # resumable reading
+            json.dump(result, f, indent=1)
+
     try:
         for preset, seeds in args.drives:
             for seed in seeds:
                 drive = bench_run.prepare_drive(planeloc, data_dir, preset, seed, False)
                 data = os.path.join(ROOT, drive["dir"])
-                runs_dir = os.path.join(runs_root, f"{preset}-{seed}")
-                os.makedirs(runs_dir, exist_ok=True)
-                settings = os.path.join(runs_dir, "orbslam2.yaml")
-                run_measured([sys.executable, os.path.join(ROOT, "scripts", "peers",
-                                                           "orbslam2_settings.py"),
-                              os.path.join(data, "sim", "sequences", "00"), "-o", settings],
-                             os.path.join(runs_dir, "settings.log"))
-                runs = {row: [] for row in ROWS}
-                for repeat in range(args.repeats):
-                    for row in ROWS:
-                        print(f"--- peers {preset} seed {seed}: {row}, round {repeat + 1}",
-                              flush=True)
-                        prefix = os.path.join(runs_dir, f"{row}.{repeat}")
-                        if row == "orbslam2":
-                            record = run_orbslam2(planeloc, drive, data, prefix, settings)
-                        else:
-                            record = run_planeloc(planeloc, drive, data, prefix, row)
-                        runs[row].append(record)
-                result["drives"].append({
-                    "preset": preset, "seed": seed, "frames": drive["frames"],
-                    "path_m": drive["path_m"], "runs": runs,
-                    "summary": {row: summarize(runs[row]) for row in ROWS}})
-                with open(os.path.join(out, "peers.json"), "w") as f:  # resumable reading
-                    json.dump(result, f, indent=1)
+                compare(preset, seed, os.path.join(data, "sim", "sequences", "00"),
+                        os.path.join(data, "sim", "poses", "00.txt"),
+                        os.path.join(data, "planes.json"), ROWS, drive)
+        if not args.no_real and args.real and os.path.isdir(args.real):
+            name = os.path.basename(os.path.normpath(args.real))
+            seq = os.path.join(data_dir, name, "sequences", "00")
+            run_measured([sys.executable, os.path.join(ROOT, "scripts", "peers",
+                                                       "kitti_raw_as_odometry.py"), args.real, seq],
+                         os.path.join(data_dir, name + ".log"))
+            with open(os.path.join(seq, "times.txt")) as f:
+                frames = sum(1 for line in f if line.strip())
+            compare("KITTI raw", name.replace("kitti-raw-", ""), seq, None, None, REAL_ROWS,
+                    {"frames": frames, "path_m": None})
+        elif not args.no_real:
+            print(f"bench_peers.py: no real drive ({rel(args.real)} missing): skipped",
+                  flush=True)
     except BenchError as e:
         print(f"bench_peers.py: {e}", file=sys.stderr)
         return 1

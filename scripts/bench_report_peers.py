@@ -82,6 +82,9 @@ def goals(data):
     """One line per goal: met on how many drives."""
     drives = data["drives"]
     n = len(drives)
+    # A real drive without ground truth (KITTI raw 0001) counts for speed and memory only.
+    n_gt = sum(d.get("ground_truth", True) for d in drives)
+    n_planes = sum("planes-exact" in d["summary"] for d in drives)
     vo_fps = vo_ate = planes = rss = latency = latency_ate = n_latency = 0
     for d in drives:
         rt = d["summary"].get("planes-realtime")
@@ -96,9 +99,10 @@ def goals(data):
             vo_fps += 1
         if pa and median(vo, "ate_none_m") is not None and median(vo, "ate_none_m") <= pa:
             vo_ate += 1
-        if pa and all(median(d["summary"][k], "ate_none_m") is not None and
-                      median(d["summary"][k], "ate_none_m") <= PLANES_ATE_GOAL * pa
-                      for k in ("planes-exact", "planes-prior")):
+        if pa and "planes-exact" in d["summary"] and all(
+                median(d["summary"][k], "ate_none_m") is not None and
+                median(d["summary"][k], "ate_none_m") <= PLANES_ATE_GOAL * pa
+                for k in ("planes-exact", "planes-prior")):
             planes += 1
         if pr and all(median(d["summary"][k], "peak_rss_mb") is not None and
                       median(d["summary"][k], "peak_rss_mb") <= RSS_GOAL * pr
@@ -106,9 +110,9 @@ def goals(data):
             rss += 1
     return [
         f"- planeloc VO ≥ {VO_FPS_GOAL}× ORB-SLAM2's frame rate: {vo_fps} of {n} drives; at or "
-        f"below its ATE: {vo_ate} of {n}.",
+        f"below its ATE: {vo_ate} of {n_gt} (drives with ground truth).",
         f"- plane mode ≤ {PLANES_ATE_GOAL}× ORB-SLAM2's ATE (no alignment), exact start and default "
-        f"prior: {planes} of {n} drives.",
+        f"prior: {planes} of {n_planes} drives.",
         f"- peak RSS ≤ {RSS_GOAL}× ORB-SLAM2's, every planeloc row: {rss} of {n} drives.",
         f"- p99 latency ≤ {LATENCY_GOAL_MS:.0f} ms at 10 Hz (plane mode, `--realtime`): "
         f"{latency} of {n_latency} drives; its ATE within 1.1× of the exact start at full speed: "

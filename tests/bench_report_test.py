@@ -74,7 +74,7 @@ class BenchReportTest(unittest.TestCase):
 
     def test_peers_same_run_ratios(self):
         # tests/bench_report_fixture/peers.json, small 3: ORB-SLAM2 20 fps, ATE 0.200 m, 400 MB.
-        vo = self.row("Same run as ORB-SLAM2", "planeloc VO")
+        vo = self.row("Same run as ORB-SLAM2", "planeloc VO", "run --no-planes")
         self.assertEqual(vo[5], "2.00")  # fps 40 / 20, goal >= 1.5: not bold
         self.assertEqual(vo[10], "**1.25**")  # ATE 0.250 / 0.200 above the peer's
         self.assertEqual(vo[15], "0.45")  # RSS 180 / 400
@@ -84,13 +84,23 @@ class BenchReportTest(unittest.TestCase):
         self.assertEqual(prior[10], "**0.60**")  # 0.120 / 0.200 misses the goal
         self.assertEqual(prior[15], "**0.53**")  # RSS 210 / 400 > 0.5
         self.assertIn("1/2 (exit code 2", prior[3])  # the failed round is in the row
-        peer = self.row("Same run as ORB-SLAM2", "ORB-SLAM2 (stereo")
+        peer = self.row("Same run as ORB-SLAM2", "ORB-SLAM2 (stereo", "small 3")
         self.assertEqual(peer[6], "90.0 (85.0–95.0)")
         self.assertTrue(peer[-1] == TAG, peer)
         goals = self.section("Same run as ORB-SLAM2")
-        self.assertIn("frame rate: 1 of 1 drives; at or below its ATE: 0 of 1", goals)
+        # The real drive (KITTI raw 0001 in the fixture: ORB-SLAM2 15 fps, 500 MB; VO 33 fps,
+        # 150 MB; no ground truth, no plane rows) counts for speed and memory only.
+        raw_vo = self.row("Same run as ORB-SLAM2", "planeloc VO", "raw/00")
+        self.assertEqual(raw_vo[5], "2.20")  # 33 / 15
+        self.assertEqual(raw_vo[8], "—")  # no ATE without ground truth
+        self.assertEqual(raw_vo[10], "—")
+        self.assertEqual(raw_vo[15], "0.30")  # 150 / 500
+        self.assertEqual(self.row("Same run as ORB-SLAM2", "KITTI raw 0001")[1],
+                         "ORB-SLAM2 (stereo, no loop closing)")
+        self.assertIn("frame rate: 2 of 2 drives; at or below its ATE: 0 of 1 (drives with "
+                      "ground truth)", goals)
         self.assertIn("default prior: 0 of 1 drives", goals)
-        self.assertIn("every planeloc row: 0 of 1 drives", goals)
+        self.assertIn("every planeloc row: 1 of 2 drives", goals)
         realtime = self.row("Same run as ORB-SLAM2", "--realtime (10 Hz)")
         self.assertEqual(realtime[13], "40 (38–42) / 90 (80–120)")  # p50 / p99 over the rounds
         # p99 90 <= 100 ms; ATE 0.060 > 1.1 x the exact start's 0.050.
