@@ -7,7 +7,7 @@
 # Usage: scripts/bench_peers.sh [--out DIR] [--repeats N] [--drives "PRESET:SEED,... ..."]
 #   defaults: BUILD/bench, 3 interleaved rounds, "small:3,11,21 kitti07-like:1,2", then the real
 #   KITTI raw 0001 when ../shared/data has it (--real DIR, --no-real; ORB-SLAM2 and VO only)
-# Never in CI: the peer takes minutes to build and the comparison about 25 minutes on 2 cores.
+# Never in CI: the peer takes minutes to build and the comparison 52 minutes on 2 cores (2026-12-06).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build_dir="${PLANELOC_BUILD_DIR:-$root/build}"
