@@ -21,6 +21,16 @@ namespace {
 
 constexpr std::int64_t kAxisCells = 1 << 20;  // per axis, centred on 0: +-5 000 km at 5 m
 
+ConsensusRule ConsensusRuleOf(const PlaneAssociationOptions& options) {
+  ConsensusRule rule;
+  rule.min_planes = options.consensus_min_planes;
+  rule.min_points = options.consensus_min_points;
+  rule.min_offset = options.consensus_min_offset;
+  rule.tolerance = options.consensus_tolerance;
+  rule.peer_angle_deg = options.bias_peer_angle_deg;
+  return rule;
+}
+
 }  // namespace
 
 void PlaneAssociationOptions::Check() const {
@@ -311,12 +321,24 @@ TrajectoryConsensus PlaneAssociator::ConsensusOffset() const {
   }
   std::vector<ConsensusWitness> witnesses;
   for (auto& [index, witness] : by_plane) witnesses.push_back(std::move(witness));
-  ConsensusRule rule;
-  rule.min_planes = options_.consensus_min_planes;
-  rule.min_points = options_.consensus_min_points;
-  rule.min_offset = options_.consensus_min_offset;
-  rule.tolerance = options_.consensus_tolerance;
-  rule.peer_angle_deg = options_.bias_peer_angle_deg;
+  return FindTrajectoryConsensus(std::move(witnesses), ConsensusRuleOf(options_));
+}
+
+TrajectoryConsensus PlaneAssociator::AccumulatedConsensus(
+    const std::vector<std::size_t>& indices) const {
+  if (!options_.trajectory_consensus) return {};
+  std::vector<ConsensusWitness> witnesses;
+  for (const std::size_t index : indices) {
+    const FlatPlane& flat = planes_[index];
+    if (!flat.facade || flat.health.disabled) continue;
+    ConsensusWitness witness;
+    witness.plane_index = index;
+    witness.normal = flat.plane.plane_in_map.normal;
+    for (const auto& [id, distance] : flat.distance_by_point) witness.distances.push_back(distance);
+    witnesses.push_back(std::move(witness));
+  }
+  ConsensusRule rule = ConsensusRuleOf(options_);
+  rule.min_planes = 2;
   return FindTrajectoryConsensus(std::move(witnesses), rule);
 }
 
@@ -372,6 +394,10 @@ int PlaneAssociator::UpdateHealth(int associations) {
     health.standard_error = location.standard_error;
     if (!was_judged && health.points >= options_.bias_min_points) ++judged;
   }
+  // Before a plane is blamed for its bias, its peers are asked: facades of about its normal that
+  // show the same offset over all their points say the trajectory is off, not the plane. The
+  // window's consensus alone sees too few points to protect them in time.
+  const TrajectoryConsensus accumulated = AccumulatedConsensus(touched);
   for (const std::size_t index : touched) {
     FlatPlane& flat = planes_[index];
     PlaneHealth& health = flat.health;
@@ -390,8 +416,11 @@ int PlaneAssociator::UpdateHealth(int associations) {
                   windows_, flat.plane.id, health.points, health.median, health.standard_error);
     // The window's planes agree that the trajectory is off by this plane's offset: the
     // trajectory's error, not the plane's, until the tracker has corrected it or not.
-    const bool explained = std::find(consensus_.supporters.begin(), consensus_.supporters.end(),
-                                     index) != consensus_.supporters.end();
+    const auto supports = [index](const TrajectoryConsensus& consensus) {
+      return std::find(consensus.supporters.begin(), consensus.supporters.end(), index) !=
+             consensus.supporters.end();
+    };
+    const bool explained = supports(consensus_) || supports(accumulated);
     if (!explained && health.points >= options_.bias_min_points &&
         std::abs(bias) > options_.bias_min &&
         std::abs(bias) > options_.bias_significance * bias_sigma) {

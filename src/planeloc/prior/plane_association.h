@@ -217,6 +217,8 @@ class PlaneAssociator {
   double Variance(const FlatPlane& flat) const;
   // The consensus of the facades' records in pending_ (offset zero when none).
   TrajectoryConsensus ConsensusOffset() const;
+  // The consensus of the enabled facades among `indices` over all their recorded points.
+  TrajectoryConsensus AccumulatedConsensus(const std::vector<std::size_t>& indices) const;
 
   PlaneAssociationOptions options_;
   std::string map_name_;
