@@ -35,7 +35,7 @@ Mapping.fusePoints: 0
 Mapping.keepKeyframes: 0
 """
 
-# Only forgetting off (culling as by default, fusion off as by default): the linear-growth
+# Only forgetting off (culling and fusion as by default): the linear-growth
 # reference for the defaults.
 KEEP_ALL_SETTINGS = """%YAML:1.0
 Mapping.keepKeyframes: 0

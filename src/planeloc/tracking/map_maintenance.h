@@ -29,11 +29,10 @@ struct MapMaintenanceOptions {
   // it; a match within fuse_radius (pixels at level 0, times the level's scale) that passes the
   // reprojection chi-square and descriptor tests is merged into the point with more
   // observations (ORB-SLAM2 Fuse, th = 3) (Mapping.fusePoints, Mapping.fuseNeighbours,
-  // Mapping.fuseRadius). Off by default although over 13 simulated drives (VO, --deterministic)
-  // it cut the ATE on 10 (geometric mean 0.71x) and plane mode's on 5 of 7 (0.78x): with it the
-  // plane consensus no longer brings back a start 0.3 m off sideways (docs/experiments.md,
-  // "Point fusion: visual odometry over 13 drives").
-  bool fuse_points = false;
+  // Mapping.fuseRadius). Over 13 simulated drives (VO, --deterministic) it cut the ATE on 10
+  // (geometric mean 0.71x) and plane mode's on 5 of 7 (0.78x) (docs/experiments.md, "Point
+  // fusion: visual odometry over 13 drives").
+  bool fuse_points = true;
   int fuse_neighbours = 10;
   double fuse_radius = 3.0;
   // Keyframes kept at most (besides the first): beyond that the oldest are erased with the
