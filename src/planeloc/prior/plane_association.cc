@@ -337,6 +337,8 @@ TrajectoryConsensus PlaneAssociator::AccumulatedConsensus(
     for (const auto& [id, distance] : flat.distance_by_point) witness.distances.push_back(distance);
     witnesses.push_back(std::move(witness));
   }
+  // Sparing a plane asks less than moving the map: two facades, still more than agree with the
+  // trajectory as it is (a lone plane may be the wrong one).
   ConsensusRule rule = ConsensusRuleOf(options_);
   rule.min_planes = 2;
   return FindTrajectoryConsensus(std::move(witnesses), rule);

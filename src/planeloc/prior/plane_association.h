@@ -78,6 +78,8 @@ struct PlaneAssociationOptions {
   // consensus_min_offset metres, and outnumbering those that agree with the trajectory as it is.
   // The window reports it (trajectory_offset()), its supporters are not disabled in that window,
   // and the tracker moves its map by it when two windows in a row agree (Tracker::MakeBaJob).
+  // The same rule over the facades' accumulated points, with two facades enough, spares its
+  // supporters from the bias test too (AccumulatedConsensus).
   bool trajectory_consensus = true;
   int consensus_min_planes = 3;
   int consensus_min_points = 3;
