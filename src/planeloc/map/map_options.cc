@@ -56,6 +56,7 @@ FieldTable Fields(MapPlanesOptions& o) {
   auto& cl = pe.clustering;
   return {
       {"voxel_size", MakeField(o.voxel_size)},
+      {"coarse_below_plane_fraction", MakeField(o.coarse_below_plane_fraction)},
       {"tensor_voting.sigma", MakeField(tv.sigma)},
       {"tensor_voting.radius_factor", MakeField(tv.radius_factor)},
       {"tensor_voting.curvature_weight", MakeField(tv.curvature_weight)},
@@ -120,6 +121,9 @@ void Visit(const YAML::Node& node, const std::string& prefix, const FieldTable& 
 
 void MapPlanesOptions::Check() const {
   if (!std::isfinite(voxel_size)) throw OptionsError("MapPlanesOptions.voxel_size must be finite");
+  if (!(coarse_below_plane_fraction >= 0.0 && coarse_below_plane_fraction <= 1.0)) {
+    throw OptionsError("MapPlanesOptions.coarse_below_plane_fraction must be in [0, 1]");
+  }
   tensor_voting.Check();
   plane_extraction.Check();
 }

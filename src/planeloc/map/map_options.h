@@ -1,6 +1,7 @@
 // YAML options of `planeloc map planes` (--options FILE):
 //
 //   voxel_size:         -1   (metres; -1 = tensor_voting.sigma / 5, 0 = no voxel filter)
+//   coarse_below_plane_fraction: 0.5  (vote again at 2 sigma below it; 0 = never)
 //   tensor_voting:      {sigma: 0.5, radius_factor: 1.5, curvature_weight: 10,
 //                        max_stick_angle_deg: 45, stick_passes: 2, max_neighbors: 512}
 //   plane_extraction:   {min_stick_saliency: 0.5, growth_angle_deg: 15, ..., up: [0, -1, 0],
@@ -31,6 +32,11 @@ struct MapPlanesOptions {
   double voxel_size = -1.0;
   TensorVotingOptions tensor_voting;
   PlaneExtractionOptions plane_extraction;
+  // Scale selection: when fewer than this fraction of the (voxel-filtered) points end up on
+  // planes, the map is voted again at twice tensor_voting.sigma and the pass with more points on
+  // planes is kept. A map registered from poses a few centimetres off (5 cm, 0.2 deg) has 29-32 %
+  // on planes at 0.5 m and 53-55 % at 1 m; clean simulator maps 86-89 %. 0 = one scale only.
+  double coarse_below_plane_fraction = 0.5;
 
   double EffectiveVoxelSize() const {
     return voxel_size < 0.0 ? tensor_voting.sigma / 5.0 : voxel_size;

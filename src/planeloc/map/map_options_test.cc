@@ -59,6 +59,15 @@ TEST(MapOptionsTest, ValueOutOfRangeNamesKeyAndLineNotTheStruct) {
     EXPECT_NE(e.problem().find("tensor_voting.sigma"), std::string::npos) << e.problem();
     EXPECT_EQ(e.problem().find("Options."), std::string::npos) << e.problem();
   }
+  std::ofstream(path) << "voxel_size: 0.1\ncoarse_below_plane_fraction: 1.5\n";
+  try {
+    MapPlanesOptions defaults;
+    LoadMapPlanesOptions(path, defaults);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(e.problem().find("coarse_below_plane_fraction"), std::string::npos) << e.problem();
+  }
 }
 
 }  // namespace

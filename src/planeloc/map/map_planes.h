@@ -23,6 +23,9 @@ struct MapPlanesOutput {
   double extraction_seconds = 0.0;
 };
 
+// Fraction of output.points on a plane (extraction.point_plane >= 0); 0 for no points.
+double PlanePointFraction(const MapPlanesOutput& output);
+
 // Voxel filter, tensor voting and plane extraction (up detected when
 // options.plane_extraction.detect_up). Throws OptionsError for bad options, InputError for an
 // empty map and InputError("map too large for memory: use --voxel") when the neighbourhoods do not
