@@ -34,8 +34,8 @@ struct MapPlanesOptions {
   PlaneExtractionOptions plane_extraction;
   // Scale selection: when fewer than this fraction of the (voxel-filtered) points end up on
   // planes, the map is voted again at twice tensor_voting.sigma and the pass with more points on
-  // planes is kept. A map registered from poses a few centimetres off (5 cm, 0.2 deg) has 29-32 %
-  // on planes at 0.5 m and 53-55 % at 1 m; clean simulator maps 86-89 %. 0 = one scale only.
+  // planes is kept. A map registered from poses a few centimetres off (5 cm, 0.2 deg) has 25-32 %
+  // on planes at 0.5 m and 54-57 % at 1 m; clean simulator maps 83-89 %. 0 = one scale only.
   double coarse_below_plane_fraction = 0.5;
 
   double EffectiveVoxelSize() const {

@@ -95,7 +95,7 @@ MapPlanesOutput RunMapPlanes(const PointCloud& map, const MapPlanesOptions& opti
     // (and, when the voxel follows the scale, twice the voxel) and keep the pass on which more
     // of the map lies on planes by a clear margin (a real scan's clutter, trees and cars, keeps
     // the fraction low at any scale: KITTI-00 scans 20-33 % at 0.5 m, 16-33 % at 1 m; a map from
-    // noisy poses goes from 29-32 % to 53-55 %); docs/map.md, "Scale".
+    // noisy poses goes from 25-32 % to 54-57 %); docs/map.md, "Scale".
     MapPlanesOptions coarse = options;
     coarse.tensor_voting.sigma *= 2.0;
     MapPlanesOutput coarse_output = RunOneScale(map, coarse);
