@@ -98,6 +98,9 @@ TEST(MapPlanesTest, DenseCloudIsVoxelFilteredToTheSamePlanes) {
 // planes. `map planes` votes again at twice the scale and keeps that pass. The street here is
 // 20-32 m from the sensor poses' origin, as a map's surfaces are from the scans that saw them:
 // 0.2 deg there moves a point by 7-11 cm.
+// Each pass samples the street every 0.3 m (a scan's density on a surface 20-30 m away).
+constexpr double kPassSpacing = 0.3;
+
 MapPlanesOutput PlanesOfPasses(int passes, double shift_sigma, double turn_sigma_deg,
                                double coarse_below_plane_fraction) {
   std::mt19937 rng(17);
@@ -107,15 +110,16 @@ MapPlanesOutput PlanesOfPasses(int passes, double shift_sigma, double turn_sigma
                         z = Eigen::Vector3d::UnitZ();
   PointCloud map;
   for (int pass = 0; pass < passes; ++pass) {
-    testing::SceneBuilder street(0.25, 0.01, 40 + pass);
+    testing::SceneBuilder street(kPassSpacing, 0.01, 40 + pass);
     street.Rectangle({20, -6, 0}, x, 12.0, y, 12.0, true);  // ground
     street.Rectangle({32, -6, 0}, y, 12.0, z, 5.0, true);   // facade x = 32
     street.Rectangle({20, 6, 0}, x, 12.0, z, 4.0, true);    // facade y = 6
-    const Eigen::Matrix3d rotation =
-        (Eigen::AngleAxisd(turn(rng), x) * Eigen::AngleAxisd(turn(rng), y) *
-         Eigen::AngleAxisd(turn(rng), z))
-            .toRotationMatrix();
-    const Eigen::Vector3d translation(shift(rng), shift(rng), shift(rng));
+    // One draw per statement: the order of a call's arguments is the compiler's choice.
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    for (const Eigen::Vector3d& axis : {x, y, z})
+      rotation = rotation * Eigen::AngleAxisd(turn(rng), axis).toRotationMatrix();
+    Eigen::Vector3d translation;
+    for (int k = 0; k < 3; ++k) translation[k] = shift(rng);
     for (const Eigen::Vector3d& p : street.scene().points) {
       map.points.push_back(rotation * p + translation);
     }
@@ -137,10 +141,11 @@ TEST(MapPlanesTest, BlurredMapIsVotedAtTwiceTheScale) {
   EXPECT_EQ(selected.extraction.plane_map.stats["options"]["tensor_voting.sigma"].get<double>(),
             1.0);
   EXPECT_EQ(selected.voxel_size, 0.2);
-  // Measured: 0.317 of the points on planes at one scale, 0.746 with the coarse pass kept
-  // (build/bin/planeloc_map_test --gtest_filter='MapPlanesTest.Blurred*').
-  EXPECT_LT(PlanePointFraction(one_scale), 0.45);
-  EXPECT_GE(PlanePointFraction(selected), 0.6);
+  // Measured (build/bin/planeloc_map_test --gtest_filter='MapPlanesTest.Blurred*'): 0.189 of the
+  // points on planes at one scale, 0.635 with the coarse pass kept (GCC; Clang's sanitizer build:
+  // 0.194 and 0.628, SceneBuilder's jitter being drawn in the compiler's argument order).
+  EXPECT_LT(PlanePointFraction(one_scale), 0.35);
+  EXPECT_GE(PlanePointFraction(selected), 0.5);
 }
 
 // A sharp map is not voted twice.
