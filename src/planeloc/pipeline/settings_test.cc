@@ -380,6 +380,18 @@ TEST(SettingsTest, MatrixClaimingAHugeSizeIsAnErrorNotAnAllocation) {
   EXPECT_NE(message.find("a 3x3 !!opencv-matrix"), std::string::npos) << message;
 }
 
+// Fuzzing finding (session 33): Camera.height 3700912 in a PinHole pair made the rectification
+// maps 1226 x 3700912 x 2 floats (18 GB) before anything checked the size.
+TEST(SettingsTest, ImageSideBeyondAnyCameraIsAnErrorNotAnAllocation) {
+  TempDir dir;
+  std::string huge = kOrbSlam3PinHole;
+  huge.replace(huge.find("Camera.height: 370"), 18, "Camera.height: 3700912");
+  const std::string message =
+      Message([&] { LoadTrackerSettings(WriteFile(dir, huge), TrackerOptions{}); });
+  EXPECT_NE(message.find("Camera.height"), std::string::npos) << message;
+  EXPECT_NE(message.find("1 to 16384 pixels"), std::string::npos) << message;
+}
+
 TEST(SettingsTest, SyntaxErrorNamesFileAndLine) {
   TempDir dir;
   const auto path =
