@@ -43,10 +43,6 @@ Eigen::Vector3d Hue(double h) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 // One pass at the options' scale: voxel filter, tensor voting, plane extraction.
 MapPlanesOutput RunOneScale(const PointCloud& map, const MapPlanesOptions& options) {
   MapPlanesOutput output;
