@@ -392,6 +392,23 @@ TEST(SettingsTest, ImageSideBeyondAnyCameraIsAnErrorNotAnAllocation) {
   EXPECT_NE(message.find("1 to 16384 pixels"), std::string::npos) << message;
 }
 
+// Fuzzing finding (session 35, CI of 124be65's tree): LocalBA.windowKeyframesTurn 2147483647
+// made OdometryOptions::Check add it to LocalBA.maxFixedKeyframes in int (signed overflow,
+// undefined; UBSan aborted). The sum is 64-bit now, and the window it asks for is larger than
+// Mapping.keepKeyframes allows, which is the error the user gets.
+TEST(SettingsTest, WindowSizeAtIntMaxIsAnErrorNotAnOverflow) {
+  TempDir dir;
+  const std::string message = Message([&] {
+    LoadTrackerSettings(WriteFile(dir, "%YAML:1.0\nMapping.keepKeyframes: 500\n"
+                                       "LocalBA.windowKeyframesTurn: 2147483647\n"
+                                       "LocalBA.maxFixedKeyframes: 20\n"),
+                        TrackerOptions{});
+  });
+  EXPECT_NE(message.find("LocalBA.windowKeyframesTurn = 2147483647"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("keep_keyframes"), std::string::npos) << message;
+}
+
 TEST(SettingsTest, SyntaxErrorNamesFileAndLine) {
   TempDir dir;
   const auto path =

@@ -1,6 +1,7 @@
 #include "planeloc/tracking/odometry_options.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 
 #include "planeloc/util/error.h"
@@ -45,10 +46,13 @@ void OdometryOptions::Check() const {
   Require(min_found_ratio >= 0 && min_found_ratio <= 1, "min_found_ratio must be in [0, 1]");
   Require(min_point_observations >= 1, "min_point_observations must be >= 1");
   maintenance.Check();
-  // Forgetting must not reach into the keyframes that tracking and the BA still use.
+  // Forgetting must not reach into the keyframes that tracking and the BA still use. The sum in
+  // 64 bits: both window sizes may be INT_MAX in a settings file (fuzzing finding, session 35).
+  const std::int64_t ba_reach =
+      static_cast<std::int64_t>(ba_window_keyframes_turn) + ba_max_fixed_keyframes;
   Require(maintenance.keep_keyframes == 0 ||
               maintenance.keep_keyframes >=
-                  std::max(max_local_keyframes, ba_window_keyframes_turn + ba_max_fixed_keyframes),
+                  std::max<std::int64_t>(max_local_keyframes, ba_reach),
           "maintenance.keep_keyframes must be 0 or >= max(max_local_keyframes, "
           "ba_window_keyframes_turn + ba_max_fixed_keyframes)");
 }
