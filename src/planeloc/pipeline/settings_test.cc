@@ -399,13 +399,13 @@ TEST(SettingsTest, ImageSideBeyondAnyCameraIsAnErrorNotAnAllocation) {
 TEST(SettingsTest, WindowSizeAtIntMaxIsAnErrorNotAnOverflow) {
   TempDir dir;
   const std::string message = Message([&] {
-    LoadTrackerSettings(WriteFile(dir, "%YAML:1.0\nMapping.keepKeyframes: 500\n"
-                                       "LocalBA.windowKeyframesTurn: 2147483647\n"
-                                       "LocalBA.maxFixedKeyframes: 20\n"),
+    LoadTrackerSettings(WriteFile(dir,
+                                  "%YAML:1.0\nMapping.keepKeyframes: 500\n"
+                                  "LocalBA.windowKeyframesTurn: 2147483647\n"
+                                  "LocalBA.maxFixedKeyframes: 20\n"),
                         TrackerOptions{});
   });
-  EXPECT_NE(message.find("LocalBA.windowKeyframesTurn = 2147483647"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find("LocalBA.windowKeyframesTurn = 2147483647"), std::string::npos) << message;
   EXPECT_NE(message.find("keep_keyframes"), std::string::npos) << message;
 }
 

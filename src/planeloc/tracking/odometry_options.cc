@@ -51,8 +51,7 @@ void OdometryOptions::Check() const {
   const std::int64_t ba_reach =
       static_cast<std::int64_t>(ba_window_keyframes_turn) + ba_max_fixed_keyframes;
   Require(maintenance.keep_keyframes == 0 ||
-              maintenance.keep_keyframes >=
-                  std::max<std::int64_t>(max_local_keyframes, ba_reach),
+              maintenance.keep_keyframes >= std::max<std::int64_t>(max_local_keyframes, ba_reach),
           "maintenance.keep_keyframes must be 0 or >= max(max_local_keyframes, "
           "ba_window_keyframes_turn + ba_max_fixed_keyframes)");
 }
