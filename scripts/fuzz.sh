@@ -3,7 +3,8 @@
 # (PLANELOC_JOBS), in the sanitizer tree build-asan/ (built by scripts/build_asan.sh: ASan + UBSan).
 # Seeds: tests/fuzz_corpus/<target>/; the growing corpus stays in build-asan/fuzz/<target>/corpus
 # (not in git), crashing inputs in build-asan/fuzz/<target>/. Prints one line a target (execs,
-# exec/s, corpus) and exits 1 when any target found a crash, leak, timeout or out-of-memory.
+# exec/s, corpus) and exits 1 when any target found a crash, leak, timeout or out-of-memory;
+# each finding's report and input (base64) are printed after the table.
 #
 # Usage: scripts/fuzz.sh SECONDS [TARGET...]   (targets: kitti_calib trajectory pcd_reader
 #        ply_reader xyz plane_map settings_reader; default all)
@@ -71,5 +72,22 @@ for target in "${targets[@]}"; do
     "$(fuzz_stat average_exec_per_sec)" \
     "$(grep -oE 'corp: [0-9]+' "$work/log" | tail -1 | cut -d' ' -f2)" \
     "$(fuzz_stat peak_rss_mb)" "$result"
+done
+
+# A CI machine's build tree is gone after the run: print each finding's report and its input
+# (base64; inputs are at most 4 kB) so that the CI record alone lets anyone replay it:
+# `base64 -d > input; build-asan/bin/planeloc_<target>_fuzz input`.
+for target in "${targets[@]}"; do
+  work="$build_dir/fuzz/$target"
+  grep -qE '^==[0-9]+== ?ERROR|^SUMMARY: |runtime error:|deadly signal' "$work/log" || continue
+  echo "== finding in $target: the report (first 60 lines from the first error)"
+  grep -m1 -nE '^==[0-9]+== ?ERROR|^SUMMARY: |runtime error:|deadly signal' "$work/log" |
+    cut -d: -f1 | xargs -I{} tail -n +{} "$work/log" | head -60 || true
+  for input in "$work"/crash-* "$work"/leak-* "$work"/timeout-* "$work"/oom-* "$work"/slow-unit-*; do
+    [ -f "$input" ] || continue
+    echo "== $target input $(basename "$input") ($(wc -c <"$input") bytes), base64:"
+    base64 -w 0 "$input"
+    echo
+  done
 done
 exit "$status"
