@@ -392,9 +392,9 @@ TEST(SettingsTest, ImageSideBeyondAnyCameraIsAnErrorNotAnAllocation) {
   EXPECT_NE(message.find("1 to 16384 pixels"), std::string::npos) << message;
 }
 
-// Fuzzing finding (session 35, CI of 124be65's tree): LocalBA.windowKeyframesTurn 2147483647
-// made OdometryOptions::Check add it to LocalBA.maxFixedKeyframes in int (signed overflow,
-// undefined; UBSan aborted). The sum is 64-bit now, and the window it asks for is larger than
+// Found by the audit after CI's unreplayable settings_reader finding (session 35, fuzz finding 4
+// in docs/reliability.md): LocalBA.windowKeyframesTurn 2147483647 made OdometryOptions::Check
+// add it to LocalBA.maxFixedKeyframes in int (signed overflow, undefined; UBSan aborted). The sum is 64-bit now, and the window it asks for is larger than
 // Mapping.keepKeyframes allows, which is the error the user gets.
 TEST(SettingsTest, WindowSizeAtIntMaxIsAnErrorNotAnOverflow) {
   TempDir dir;
