@@ -394,8 +394,9 @@ TEST(SettingsTest, ImageSideBeyondAnyCameraIsAnErrorNotAnAllocation) {
 
 // Found by the audit after CI's unreplayable settings_reader finding (session 35, fuzz finding 4
 // in docs/reliability.md): LocalBA.windowKeyframesTurn 2147483647 made OdometryOptions::Check
-// add it to LocalBA.maxFixedKeyframes in int (signed overflow, undefined; UBSan aborted). The sum is 64-bit now, and the window it asks for is larger than
-// Mapping.keepKeyframes allows, which is the error the user gets.
+// add it to LocalBA.maxFixedKeyframes in int (signed overflow, undefined; UBSan aborted). The sum
+// is 64-bit now, and the window it asks for is larger than Mapping.keepKeyframes allows, which is
+// the error the user gets.
 TEST(SettingsTest, WindowSizeAtIntMaxIsAnErrorNotAnOverflow) {
   TempDir dir;
   const std::string message = Message([&] {
