@@ -48,6 +48,9 @@ run_target() {
     "$work/corpus" "$root/tests/fuzz_corpus/${target}_fuzz" >"$work/log" 2>&1
 }
 
+# A sanitizer report, a libFuzzer error (crash, leak, timeout, out-of-memory) or a deadly signal.
+finding_pattern='^==[0-9]+== ?ERROR|^SUMMARY: |runtime error:|deadly signal'
+
 declare -A pids=()
 status=0
 for target in "${targets[@]}"; do
@@ -64,7 +67,7 @@ for target in "${targets[@]}"; do
   work="$build_dir/fuzz/$target"
   fuzz_stat() { sed -n "s/^stat::$1: *//p" "$work/log" | tail -1; }
   result=clean
-  if grep -qE '^==[0-9]+== ?ERROR|^SUMMARY: |runtime error:|deadly signal' "$work/log"; then
+  if grep -qE "$finding_pattern" "$work/log"; then
     result="FINDING (see $work/log)"
     status=1
   fi
@@ -79,10 +82,9 @@ done
 # `base64 -d > input; build-asan/bin/planeloc_<target>_fuzz input`.
 for target in "${targets[@]}"; do
   work="$build_dir/fuzz/$target"
-  grep -qE '^==[0-9]+== ?ERROR|^SUMMARY: |runtime error:|deadly signal' "$work/log" || continue
+  grep -qE "$finding_pattern" "$work/log" || continue
   echo "== finding in $target: the report (first 60 lines from the first error)"
-  grep -m1 -nE '^==[0-9]+== ?ERROR|^SUMMARY: |runtime error:|deadly signal' "$work/log" |
-    cut -d: -f1 | xargs -I{} tail -n +{} "$work/log" | head -60 || true
+  awk -v pattern="$finding_pattern" '$0 ~ pattern { found = 1 } found' "$work/log" | head -60 || true
   for input in "$work"/crash-* "$work"/leak-* "$work"/timeout-* "$work"/oom-* "$work"/slow-unit-*; do
     [ -f "$input" ] || continue
     echo "== $target input $(basename "$input") ($(wc -c <"$input") bytes), base64:"
