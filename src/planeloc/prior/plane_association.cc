@@ -19,6 +19,10 @@
 namespace planeloc {
 namespace {
 
+// Planes whose normals lie within 20 degrees are parallel for the bias statistics' bands: a
+// pavement and the road, two layers of one facade.
+const double kParallelCosine = std::cos(20.0 * std::numbers::pi / 180.0);
+
 constexpr std::int64_t kAxisCells = 1 << 20;  // per axis, centred on 0: +-5 000 km at 5 m
 
 ConsensusRule ConsensusRuleOf(const PlaneAssociationOptions& options) {
@@ -282,30 +286,54 @@ void PlaneAssociator::ForgetPoint(int point_id) {
 void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
   const Eigen::Vector3d& x = estimate.point_in_map;
   if (!x.allFinite() || !estimate.covariance.allFinite()) return;
-  std::optional<std::size_t> found;
-  double found_distance = 0;
-  bool ambiguous = false;
+  // The planes over the point, out to where a parallel neighbour still narrows a band.
+  struct Near {
+    std::size_t index;
+    double distance;
+  };
+  std::vector<Near> near;
   ForCandidates(x, [&](std::size_t index) {
     const FlatPlane& flat = planes_[index];
-    const Plane& plane = flat.plane.plane_in_map;
     if (flat.health.disabled) return true;
-    const double s = plane.SignedDistance(x);
-    if (std::abs(s) > options_.stats_band) return true;
-    const double point_variance = plane.normal.dot(estimate.covariance * plane.normal);
-    if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) {
-      return true;
+    const double s = flat.plane.plane_in_map.SignedDistance(x);
+    if (std::abs(s) > 3 * options_.stats_band || !InsideOutline(flat, x)) return true;
+    for (const Near& n : near) {
+      if (n.index == index) return true;
     }
-    if (!InsideOutline(flat, x)) return true;
-    if (found && *found != index) {
-      ambiguous = true;
-      return false;
-    }
-    found = index;
-    found_distance = s;
+    near.push_back({index, s});
     return true;
   });
-  if (ambiguous || !found) return;
-  pending_.push_back({*found, point_id, found_distance});
+  // A plane's witnesses must be able to show a bias of either sign. Where a parallel plane lies
+  // within the band (a pavement 0.12 m above the road), the points between them belong to both
+  // bands and an exclusive rule leaves each plane only the points beyond the other: clutter
+  // 0.25-0.35 m above the pavement (tree trunks, poles), its only witnesses. So over a parallel
+  // neighbour the band is symmetric and ends halfway to it. A crossing plane within the band (a
+  // facade's foot) makes the point ambiguous, also where it is too imprecise along the crossing
+  // plane's normal to witness that plane.
+  std::optional<Near> found;
+  for (const Near& a : near) {
+    if (std::abs(a.distance) > options_.stats_band) continue;
+    const Eigen::Vector3d& na = planes_[a.index].plane.plane_in_map.normal;
+    double band = options_.stats_band;
+    bool ambiguous = false;
+    for (const Near& b : near) {
+      if (b.index == a.index) continue;
+      const double cosine = na.dot(planes_[b.index].plane.plane_in_map.normal);
+      if (std::abs(cosine) >= kParallelCosine) {
+        const double b_along_a = cosine > 0 ? b.distance : -b.distance;
+        band = std::min(band, 0.5 * std::abs(a.distance - b_along_a));
+      } else if (std::abs(b.distance) <= options_.stats_band) {
+        ambiguous = true;
+      }
+    }
+    if (ambiguous) return;
+    if (std::abs(a.distance) < band) found = a;
+  }
+  if (!found) return;
+  const Eigen::Vector3d& normal = planes_[found->index].plane.plane_in_map.normal;
+  const double point_variance = normal.dot(estimate.covariance * normal);
+  if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) return;
+  pending_.push_back({found->index, point_id, found->distance});
 }
 
 TrajectoryConsensus PlaneAssociator::ConsensusOffset() const {
