@@ -292,9 +292,11 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
     double distance;
   };
   std::vector<Near> near;
+  // Disabled planes too: the surface they stand for is still there, near them. (The lookup grid
+  // guarantees the planes within polygon_margin + stats_band; one missed beyond leaves the band
+  // at stats_band where it would be at least 0.15 m.)
   ForCandidates(x, [&](std::size_t index) {
     const FlatPlane& flat = planes_[index];
-    if (flat.health.disabled) return true;
     const double s = flat.plane.plane_in_map.SignedDistance(x);
     if (std::abs(s) > 3 * options_.stats_band || !InsideOutline(flat, x)) return true;
     for (const Near& n : near) {
@@ -303,30 +305,29 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
     near.push_back({index, s});
     return true;
   });
-  // A plane's witnesses must be able to show a bias of either sign. Where a parallel plane lies
-  // within the band (a pavement 0.12 m above the road), the points between them belong to both
-  // bands and an exclusive rule leaves each plane only the points beyond the other: clutter
-  // 0.25-0.35 m above the pavement (tree trunks, poles), its only witnesses. So over a parallel
-  // neighbour the band is symmetric and ends halfway to it. A crossing plane within the band (a
-  // facade's foot) makes the point ambiguous, also where it is too imprecise along the crossing
-  // plane's normal to witness that plane.
+  // A plane's witnesses must be able to show a bias of either sign, and belong to it whichever
+  // plane is wrong. Near a parallel plane (a pavement 0.12 m above the road) the points between
+  // them are within both bands: an exclusive rule left each plane only the points beyond the
+  // other (clutter 0.25-0.35 m above the pavement, tree trunks and poles, its only witnesses), and
+  // halfway bands give a moved road's points to the pavement. So the band there is symmetric and
+  // stays clear of the neighbour's band: gap - stats_band, none closer than stats_band. A crossing
+  // plane within the band (a facade's foot) makes the point ambiguous, also where it is too
+  // imprecise along the crossing plane's normal to witness that plane.
   std::optional<Near> found;
   for (const Near& a : near) {
-    if (std::abs(a.distance) > options_.stats_band) continue;
+    if (std::abs(a.distance) > options_.stats_band || planes_[a.index].health.disabled) continue;
     const Eigen::Vector3d& na = planes_[a.index].plane.plane_in_map.normal;
     double band = options_.stats_band;
-    bool ambiguous = false;
     for (const Near& b : near) {
       if (b.index == a.index) continue;
       const double cosine = na.dot(planes_[b.index].plane.plane_in_map.normal);
       if (std::abs(cosine) >= kParallelCosine) {
         const double b_along_a = cosine > 0 ? b.distance : -b.distance;
-        band = std::min(band, 0.5 * std::abs(a.distance - b_along_a));
+        band = std::min(band, std::abs(a.distance - b_along_a) - options_.stats_band);
       } else if (std::abs(b.distance) <= options_.stats_band) {
-        ambiguous = true;
+        return;
       }
     }
-    if (ambiguous) return;
     if (std::abs(a.distance) < band) found = a;
   }
   if (!found) return;

@@ -19,9 +19,9 @@
 //
 // A map can be wrong (registration errors, a city that changed). Every plane keeps the signed
 // distances of the points around it (|s| <= stats_band, precise enough along its normal, latest
-// value per point; over a parallel plane within reach the band is symmetric and ends halfway to
-// it, and a point within the band of a crossing plane witnesses neither, even where it is too
-// imprecise to witness that one):
+// value per point; near a parallel plane the band is symmetric and clear of the other's band,
+// none where they are closer than stats_band, and a point within the band of a crossing plane
+// witnesses neither, even where it is too imprecise to witness that one):
 // when their median sits off the plane by more than bias_min and bias_significance standard
 // errors, over at least bias_min_points points, the plane is disabled for the run (logged once);
 // before that its bias already inflates its sigma (down-weighting).
