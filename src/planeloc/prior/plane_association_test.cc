@@ -453,9 +453,9 @@ TEST(PlaneAssociationTest, ADisabledPlaneTakesNoPoints) {
 // A facade's foot seen at a grazing angle: its stereo depth error runs along the facade's normal
 // (too imprecise to witness the facade), while its height is precise. It sits 0.3 m above the
 // pavement, within the pavement's band, and used to be the pavement's witness: on the simulator's
-// small preset such points (0.25-0.34 m up, within 0.1 m of the facade) disabled the correct
-// pavement on the inside of a turn in 35 of 70 runs. The facade claims them; the pavement keeps
-// its own points only.
+// small preset such points (0.25-0.34 m up, within 0.1 m of the facade), with the clutter of the
+// next test, disabled the correct pavement on the inside of a turn in 35 of 70 runs. The facade
+// claims them; the road keeps its own points only.
 TEST(PlaneAssociationTest, AFacadeFootIsNotThePavementsWitness) {
   PlaneAssociationOptions options;
   options.bias_min_points = 40;
