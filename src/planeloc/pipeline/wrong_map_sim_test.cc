@@ -110,12 +110,19 @@ TEST(WrongMapSimTest, MovedPlanesAreDisabledAndTheAteStaysNearTheCleanMaps) {
   // sit 0.2 m behind them (the map moved them by +0.2 m along n), measured although the run
   // disabled them. Measured 2026-12-05 (`planeloc_pipeline_test --gtest_filter=WrongMap*`): moved
   // planes corrected by -0.199 +- 0.030 m (2507 points) and -0.161 +- 0.034 m (253 points); on
-  // the clean map 5 planes confirmed, 2 corrected.
+  // the clean map 5 planes confirmed, 2 corrected. Measured 2026-12-07 after the map update took
+  // the bias statistics' witness rule (a facade's foot measures no road): moved planes -0.195 m
+  // (2163 points) and -0.169 m (261 points), no other plane corrected (before: one more); clean
+  // map 7 confirmed, 0 corrected (before: 6 and 1).
   const MapUpdates moved_updates = ReadMapUpdates(dir.path() / "moved_updates.json");
   EXPECT_EQ(moved_updates.planes_hash, FileHash(dir.path() / "moved.json"));
   ASSERT_EQ(moved_updates.planes.size(), moved_map.planes.size());
+  int unmoved_corrected = 0;
   for (const PlaneUpdate& update : moved_updates.planes) {
-    if (std::find(moved.begin(), moved.end(), update.id) == moved.end()) continue;
+    if (std::find(moved.begin(), moved.end(), update.id) == moved.end()) {
+      unmoved_corrected += update.status == PlaneUpdateStatus::kCorrected;
+      continue;
+    }
     std::cout << "moved plane " << update.id << ": " << ToString(update.status) << " offset "
               << update.offset << " +- " << update.offset_sigma << " m, " << update.points
               << " points, " << update.frames.size() << " keyframes\n";
@@ -123,6 +130,7 @@ TEST(WrongMapSimTest, MovedPlanesAreDisabledAndTheAteStaysNearTheCleanMaps) {
     EXPECT_NEAR(update.offset, -0.2, 0.06) << update.id;
     EXPECT_TRUE(update.disabled_at_frame.has_value()) << update.id;
   }
+  EXPECT_LE(unmoved_corrected, 1);
   const MapUpdates clean_updates = ReadMapUpdates(dir.path() / "clean_updates.json");
   int clean_corrected = 0, clean_confirmed = 0;
   for (const PlaneUpdate& update : clean_updates.planes) {
@@ -131,8 +139,8 @@ TEST(WrongMapSimTest, MovedPlanesAreDisabledAndTheAteStaysNearTheCleanMaps) {
   }
   std::cout << "clean map: " << clean_confirmed << " confirmed, " << clean_corrected
             << " corrected\n";
-  EXPECT_LE(clean_corrected, 3);
-  EXPECT_GE(clean_confirmed, 3);
+  EXPECT_LE(clean_corrected, 1);
+  EXPECT_GE(clean_confirmed, 4);
 }
 
 }  // namespace

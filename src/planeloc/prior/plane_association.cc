@@ -286,20 +286,37 @@ void PlaneAssociator::ForgetPoint(int point_id) {
 void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
   const Eigen::Vector3d& x = estimate.point_in_map;
   if (!x.allFinite() || !estimate.covariance.allFinite()) return;
+  const std::optional<IndexedWitness> found =
+      Witnessed(x, options_.stats_band, /*disabled_too=*/false);
+  if (!found) return;
+  const Eigen::Vector3d& normal = planes_[found->index].plane.plane_in_map.normal;
+  const double point_variance = normal.dot(estimate.covariance * normal);
+  if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) return;
+  pending_.push_back({found->index, point_id, found->distance});
+}
+
+std::optional<PlaneAssociator::Witness> PlaneAssociator::WitnessedPlane(
+    const Eigen::Vector3d& point_in_map, double band, bool disabled_too) const {
+  if (!point_in_map.allFinite()) return std::nullopt;
+  const std::optional<IndexedWitness> found = Witnessed(point_in_map, band, disabled_too);
+  if (!found) return std::nullopt;
+  return Witness{planes_[found->index].plane.id, found->distance};
+}
+
+std::optional<PlaneAssociator::IndexedWitness> PlaneAssociator::Witnessed(const Eigen::Vector3d& x,
+                                                                          double band,
+                                                                          bool disabled_too) const {
   // The planes over the point, out to where a parallel neighbour still narrows a band.
-  struct Near {
-    std::size_t index;
-    double distance;
-  };
-  std::vector<Near> near;
+  std::vector<IndexedWitness> near;
   // Disabled planes too: the surface they stand for is still there, near them. (The lookup grid
-  // guarantees the planes within polygon_margin + stats_band; one missed beyond leaves the band
-  // at stats_band where it would be at least 0.15 m.)
+  // holds every plane within polygon_margin + max(max_distance, stats_band) of the point, 0.85 m
+  // by default; a parallel one missed further off would have left a band of at least
+  // 0.85 m - band, 0.25 m for the map update's 0.6 m.)
   ForCandidates(x, [&](std::size_t index) {
     const FlatPlane& flat = planes_[index];
     const double s = flat.plane.plane_in_map.SignedDistance(x);
-    if (std::abs(s) > 3 * options_.stats_band || !InsideOutline(flat, x)) return true;
-    for (const Near& n : near) {
+    if (std::abs(s) > 3 * band || !InsideOutline(flat, x)) return true;
+    for (const IndexedWitness& n : near) {
       if (n.index == index) return true;
     }
     near.push_back({index, s});
@@ -310,31 +327,29 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
   // them are within both bands: an exclusive rule left each plane only the points beyond the
   // other (clutter 0.25-0.35 m above the pavement, tree trunks and poles, its only witnesses), and
   // halfway bands give a moved road's points to the pavement. So the band there is symmetric and
-  // stays clear of the neighbour's band: gap - stats_band, none closer than stats_band. A crossing
-  // plane within the band (a facade's foot) makes the point ambiguous, also where it is too
-  // imprecise along the crossing plane's normal to witness that plane.
-  std::optional<Near> found;
-  for (const Near& a : near) {
-    if (std::abs(a.distance) > options_.stats_band || planes_[a.index].health.disabled) continue;
+  // stays clear of the neighbour's band: gap - band, none closer than `band`. A crossing plane
+  // within the band (a facade's foot) makes the point ambiguous, also where it is too imprecise
+  // along the crossing plane's normal to witness that plane.
+  std::optional<IndexedWitness> found;
+  for (const IndexedWitness& a : near) {
+    if (std::abs(a.distance) > band || (planes_[a.index].health.disabled && !disabled_too)) {
+      continue;
+    }
     const Eigen::Vector3d& na = planes_[a.index].plane.plane_in_map.normal;
-    double band = options_.stats_band;
-    for (const Near& b : near) {
+    double clear = band;
+    for (const IndexedWitness& b : near) {
       if (b.index == a.index) continue;
       const double cosine = na.dot(planes_[b.index].plane.plane_in_map.normal);
       if (std::abs(cosine) >= kParallelCosine) {
         const double b_along_a = cosine > 0 ? b.distance : -b.distance;
-        band = std::min(band, std::abs(a.distance - b_along_a) - options_.stats_band);
-      } else if (std::abs(b.distance) <= options_.stats_band) {
-        return;
+        clear = std::min(clear, std::abs(a.distance - b_along_a) - band);
+      } else if (std::abs(b.distance) <= band) {
+        return std::nullopt;
       }
     }
-    if (std::abs(a.distance) < band) found = a;
+    if (std::abs(a.distance) < clear) found = a;
   }
-  if (!found) return;
-  const Eigen::Vector3d& normal = planes_[found->index].plane.plane_in_map.normal;
-  const double point_variance = normal.dot(estimate.covariance * normal);
-  if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) return;
-  pending_.push_back({found->index, point_id, found->distance});
+  return found;
 }
 
 TrajectoryConsensus PlaneAssociator::ConsensusOffset() const {
@@ -443,8 +458,11 @@ int PlaneAssociator::UpdateHealth(int associations) {
     // trajectory's uncertainty does not explain joins the plane sigma.
     const double unexplained = std::max(0.0, std::abs(bias) - trajectory_sigma);
     flat.bias2 = 2 * health.points >= options_.bias_min_points ? unexplained * unexplained : 0.0;
-    spdlog::debug("plane health: window {} plane {} points {} median {:+.3f} m (se {:.3f})",
-                  windows_, flat.plane.id, health.points, health.median, health.standard_error);
+    spdlog::debug(
+        "plane health: window {} plane {} points {} median {:+.3f} m (se {:.3f}, trajectory "
+        "{:.3f})",
+        windows_, flat.plane.id, health.points, health.median, health.standard_error,
+        trajectory_sigma);
     // The window's planes agree that the trajectory is off by this plane's offset: the
     // trajectory's error, not the plane's, until the tracker has corrected it or not.
     const auto supports = [index](const TrajectoryConsensus& consensus) {

@@ -185,6 +185,17 @@ class PlaneAssociator {
                                                 const std::vector<cv::Mat>& left_pyramid);
   const CreaseChecker* crease_checker() const { return creases_.get(); }
 
+  // The plane that the point at `point_in_map` is a witness of, by the bias statistics' rule
+  // (Record) with half-width `band`: within `band` of the plane and inside its outline, clear of
+  // the bands of parallel neighbours (gap - band), and within `band` of no crossing plane (enabled
+  // or disabled). Disabled planes are witnessed too when `disabled_too`. The point's precision is
+  // the caller's test. Returns the plane's id and the point's signed distance from it.
+  struct Witness {
+    int plane_id = 0;
+    double distance = 0;  // metres, signed
+  };
+  std::optional<Witness> WitnessedPlane(const Eigen::Vector3d& point_in_map, double band,
+                                        bool disabled_too) const;
   // Appends to `ids` the planes (enabled or disabled) whose lookup cells contain the point: every
   // plane whose bounding box grown by polygon_margin + max(max_distance, stats_band) does.
   void PlanesNear(const Eigen::Vector3d& point_in_map, std::vector<int>& ids) const;
@@ -220,6 +231,12 @@ class PlaneAssociator {
   template <typename F>
   void ForCandidates(const Eigen::Vector3d& point_in_map, F f) const;
   double Variance(const FlatPlane& flat) const;
+  struct IndexedWitness {
+    std::size_t index;
+    double distance;
+  };
+  std::optional<IndexedWitness> Witnessed(const Eigen::Vector3d& point_in_map, double band,
+                                          bool disabled_too) const;
   // The consensus of the facades' records in pending_ (offset zero when none).
   TrajectoryConsensus ConsensusOffset() const;
   // The consensus of the enabled facades among `indices` over all their recorded points.

@@ -80,9 +80,6 @@ void PlaneEvidence::ObserveWindow(int frame, const std::vector<EvidencePoint>& p
     }
     std::sort(candidates_.begin(), candidates_.end());
     candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
-    std::optional<std::size_t> on_plane;
-    Sample on_sample;
-    bool ambiguous = false;
     for (const int id : candidates_) {
       const auto found = index_by_id_.find(id);
       if (found == index_by_id_.end()) continue;
@@ -90,34 +87,36 @@ void PlaneEvidence::ObserveWindow(int frame, const std::vector<EvidencePoint>& p
       const Plane& plane = record.plane.plane_in_map;
       const double s = plane.SignedDistance(x);
       const double s_camera = plane.SignedDistance(c);
-      const Eigen::Vector3d from_centroid = x - record.plane.centroid;
-      if (std::abs(s) <= options_.band) {
-        const double variance = plane.normal.dot(point.estimate.covariance * plane.normal);
-        if (variance > options_.max_point_sigma * options_.max_point_sigma) continue;
-        if (!associator_.InsideOutline(id, x, 0.0)) continue;
-        if (on_plane) ambiguous = true;
-        on_plane = found->second;
-        on_sample = {from_centroid.dot(record.e1), from_centroid.dot(record.e2), s, false};
-      } else if (s * s_camera < 0 &&
-                 std::abs(s) >
-                     options_.band +
-                         3.0 * std::sqrt(std::max(0.0, plane.normal.dot(point.estimate.covariance *
-                                                                        plane.normal)))) {
-        // Behind the plane as seen from the camera, beyond its own depth uncertainty: the ray
-        // crosses it at c + t (x - c).
-        const double t = s_camera / (s_camera - s);
-        const Eigen::Vector3d crossing = c + t * (x - c);
-        // Strictly inside the outline: at its edges a ray may pass beside the surface.
-        if (!associator_.InsideOutline(id, crossing, 0.0)) continue;
-        const Eigen::Vector3d at = crossing - record.plane.centroid;
-        record.samples[point.point_id] = {at.dot(record.e1), at.dot(record.e2), s, true};
-        seen.insert(found->second);
-      }
+      const double sigma =
+          std::sqrt(std::max(0.0, plane.normal.dot(point.estimate.covariance * plane.normal)));
+      // Behind the plane as seen from the camera, beyond its own depth uncertainty: the ray
+      // crosses it at c + t (x - c).
+      if (s * s_camera >= 0 || std::abs(s) <= options_.band + 3.0 * sigma) continue;
+      const double t = s_camera / (s_camera - s);
+      const Eigen::Vector3d crossing = c + t * (x - c);
+      // Strictly inside the outline: at its edges a ray may pass beside the surface.
+      if (!associator_.InsideOutline(id, crossing, 0.0)) continue;
+      const Eigen::Vector3d at = crossing - record.plane.centroid;
+      record.samples[point.point_id] = {at.dot(record.e1), at.dot(record.e2), s, true};
+      seen.insert(found->second);
     }
-    if (on_plane && !ambiguous) {
-      records_[*on_plane].samples[point.point_id] = on_sample;
-      seen.insert(*on_plane);
+    // On a plane: the bias statistics' rule (the plane's band clear of its parallel neighbours',
+    // no crossing plane within it), disabled planes included (their offset is what a map update
+    // reports), and precise along the plane's normal.
+    const auto witness = associator_.WitnessedPlane(x, options_.band, /*disabled_too=*/true);
+    if (!witness) continue;
+    const auto found = index_by_id_.find(witness->plane_id);
+    if (found == index_by_id_.end()) continue;
+    PlaneRecord& record = records_[found->second];
+    const Eigen::Vector3d& normal = record.plane.plane_in_map.normal;
+    if (normal.dot(point.estimate.covariance * normal) >
+        options_.max_point_sigma * options_.max_point_sigma) {
+      continue;
     }
+    const Eigen::Vector3d from_centroid = x - record.plane.centroid;
+    record.samples[point.point_id] = {from_centroid.dot(record.e1), from_centroid.dot(record.e2),
+                                      witness->distance, false};
+    seen.insert(found->second);
   }
   for (const std::size_t index : seen) records_[index].frames.insert(frame);
 }

@@ -118,6 +118,53 @@ TEST(PlaneEvidenceTest, PointsBehindAWallButBesideItAreNoEvidence) {
   EXPECT_TRUE(update.frames.empty());
 }
 
+// Points at a facade's foot, 0.3 m above the road and seen nearly edge-on (0.2 m sigma along the
+// facade's normal): too imprecise to measure the facade, but no measure of the road either. When
+// the facade's imprecision let them pass to the road, 150 feet outvoted 100 road points and the
+// road was "corrected" 0.3 m up.
+TEST(PlaneEvidenceTest, AFacadeFootIsNoEvidenceOfTheRoad) {
+  PlaneMap map = Facade();
+  MapPlane road = map.planes.front();
+  road.id = 4;
+  road.plane_in_map = Plane(Eigen::Vector3d(0, -1, 0), 1.65);  // y = 1.65, y down
+  road.polygon = {{-5, 1.65, 0}, {6, 1.65, 0}, {6, 1.65, 40}, {-5, 1.65, 40}};
+  road.area = 440;
+  road.centroid = Eigen::Vector3d(0.5, 1.65, 20);
+  map.planes.push_back(road);
+  std::mt19937 rng(7);
+  // Feet on the street side of the facade, inside the road's outline.
+  std::uniform_real_distribution<double> along(2.0, 38.0), across(-4.0, 5.0), depth(-0.3, 0.0);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  std::vector<EvidencePoint> points;
+  for (int i = 0; i < 250; ++i) {
+    EvidencePoint point;
+    point.point_id = i;
+    const double z = along(rng);
+    if (i < 150) {
+      point.estimate.point_in_map = Eigen::Vector3d(6 + depth(rng), 1.35 + noise(rng), z);
+      point.estimate.covariance = Eigen::Vector3d(0.2 * 0.2, 0.02 * 0.02, 0.02 * 0.02).asDiagonal();
+    } else {
+      point.estimate.point_in_map = Eigen::Vector3d(across(rng), 1.65 + noise(rng), z);
+      point.estimate.covariance = Eigen::Matrix3d::Identity() * 0.02 * 0.02;
+    }
+    point.camera_center = Eigen::Vector3d(0, 0, z - 10);
+    points.push_back(point);
+  }
+  const PlaneAssociator associator(map, PlaneAssociationOptions());
+  PlaneEvidence evidence(map, associator, PlaneEvidenceOptions());
+  evidence.ObserveWindow(5, points);
+  const std::vector<PlaneUpdate> updates = evidence.Summarize();
+  ASSERT_EQ(updates.size(), 2u);
+  const PlaneUpdate& facade = updates[0].id == 3 ? updates[0] : updates[1];
+  const PlaneUpdate& measured_road = updates[0].id == 4 ? updates[0] : updates[1];
+  EXPECT_EQ(measured_road.status, PlaneUpdateStatus::kConfirmed);
+  // Its own points (a few beyond the median / MAD test), none of the feet.
+  EXPECT_GE(measured_road.points, 90);
+  EXPECT_LE(measured_road.points, 100);
+  EXPECT_LT(std::abs(measured_road.offset), 0.01);
+  EXPECT_EQ(facade.points, 0);
+}
+
 TEST(PlaneEvidenceTest, FewPointsLeaveAPlaneUnseenAndResetForgetsThem) {
   EXPECT_EQ(Observe(WallPoints([](double, double) { return 6.2; }, 10, 6)).status,
             PlaneUpdateStatus::kUnseen);
