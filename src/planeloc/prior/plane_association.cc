@@ -2,11 +2,14 @@
 
 #include <spdlog/spdlog.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -22,6 +25,12 @@ namespace {
 // Planes whose normals lie within 20 degrees are parallel for the bias statistics' bands: a
 // pavement and the road, two layers of one facade.
 const double kParallelCosine = std::cos(20.0 * std::numbers::pi / 180.0);
+
+// A plane's window records are compared with the other planes' only from this many points on
+// (fewer give no median worth comparing).
+constexpr int kWindowPoints = 10;
+// Metres: the trajectory's offset along a direction that no other plane holds, as a prior.
+constexpr double kUnheldSigma = 1.0;
 
 constexpr std::int64_t kAxisCells = 1 << 20;  // per axis, centred on 0: +-5 000 km at 5 m
 
@@ -283,7 +292,7 @@ void PlaneAssociator::ForgetPoint(int point_id) {
   }
 }
 
-void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
+void PlaneAssociator::Record(int point_id, const PointEstimate& estimate, int keyframe_id) {
   const Eigen::Vector3d& x = estimate.point_in_map;
   if (!x.allFinite() || !estimate.covariance.allFinite()) return;
   const std::optional<IndexedWitness> found =
@@ -292,7 +301,7 @@ void PlaneAssociator::Record(int point_id, const PointEstimate& estimate) {
   const Eigen::Vector3d& normal = planes_[found->index].plane.plane_in_map.normal;
   const double point_variance = normal.dot(estimate.covariance * normal);
   if (point_variance > options_.stats_max_point_sigma * options_.stats_max_point_sigma) return;
-  pending_.push_back({found->index, point_id, found->distance});
+  pending_.push_back({found->index, point_id, found->distance, keyframe_id});
 }
 
 std::optional<PlaneAssociator::Witness> PlaneAssociator::WitnessedPlane(
@@ -350,6 +359,53 @@ std::optional<PlaneAssociator::IndexedWitness> PlaneAssociator::Witnessed(const 
     if (std::abs(a.distance) < clear) found = a;
   }
   return found;
+}
+
+bool PlaneAssociator::ExplainedByTrajectory(std::size_t index) const {
+  std::set<int> keyframes;
+  std::vector<double> own;
+  for (const PendingRecord& record : window_records_) {
+    if (record.index != index || record.keyframe_id < 0) continue;
+    keyframes.insert(record.keyframe_id);
+    own.push_back(record.distance);
+  }
+  // Too few of its points in this window to compare: judged on its statistics alone.
+  if (static_cast<int>(own.size()) < kWindowPoints) return false;
+  std::map<std::size_t, std::vector<double>> others;
+  for (const PendingRecord& record : window_records_) {
+    if (record.index == index || planes_[record.index].health.disabled) continue;
+    if (keyframes.count(record.keyframe_id)) others[record.index].push_back(record.distance);
+  }
+  // The trajectory's offset e at those keyframes, least squares over the other planes' window
+  // medians (each n_q.e = median_q, with the median's error, the plane's fit rms and its bias so
+  // far; not Planes.mapSigma, the map's registration error, which moves all planes together and
+  // is part of e), with a prior of kUnheldSigma that keeps a direction no plane holds unknown
+  // rather than zero.
+  Eigen::Matrix3d information = Eigen::Matrix3d::Identity() / (kUnheldSigma * kUnheldSigma);
+  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+  for (auto& [other, distances] : others) {
+    if (static_cast<int>(distances.size()) < kWindowPoints) continue;
+    const RobustLocation location = RobustMedian(distances);
+    const FlatPlane& flat = planes_[other];
+    const Eigen::Vector3d& normal = flat.plane.plane_in_map.normal;
+    const double weight = 1.0 / (location.standard_error * location.standard_error +
+                                 flat.plane.rms * flat.plane.rms + flat.bias2);
+    information += weight * normal * normal.transpose();
+    weighted += weight * location.median * normal;
+  }
+  const Eigen::LDLT<Eigen::Matrix3d> solver(information);
+  const Eigen::Vector3d offset = solver.solve(weighted);
+  const Eigen::Vector3d& normal = planes_[index].plane.plane_in_map.normal;
+  const double offset_variance = normal.dot(solver.solve(normal));
+  const RobustLocation location = RobustMedian(own);
+  const double sigma =
+      std::sqrt(location.standard_error * location.standard_error + std::max(0.0, offset_variance));
+  spdlog::debug(
+      "plane health: window {} plane {}: {} points in the window at {:+.3f} m, the other planes "
+      "seen from the same {} keyframes put the trajectory at {:+.3f} +- {:.3f} m along its normal",
+      windows_, planes_[index].plane.id, own.size(), location.median, keyframes.size(),
+      normal.dot(offset), std::sqrt(std::max(0.0, offset_variance)));
+  return std::abs(location.median - normal.dot(offset)) <= options_.bias_significance * sigma;
 }
 
 TrajectoryConsensus PlaneAssociator::ConsensusOffset() const {
@@ -413,6 +469,7 @@ void PlaneAssociator::CommitRecords() {
     flat.distance_by_point[record.point_id] = record.distance;
     flat.touched = true;
   }
+  window_records_.insert(window_records_.end(), pending_.begin(), pending_.end());
   pending_.clear();
 }
 
@@ -472,7 +529,7 @@ int PlaneAssociator::UpdateHealth(int associations) {
     const bool explained = supports(consensus_) || supports(accumulated);
     if (!explained && health.points >= options_.bias_min_points &&
         std::abs(bias) > options_.bias_min &&
-        std::abs(bias) > options_.bias_significance * bias_sigma) {
+        std::abs(bias) > options_.bias_significance * bias_sigma && !ExplainedByTrajectory(index)) {
       flat.bias2 = 0;
       flat.distance_by_point.clear();
       health.disabled = true;
@@ -501,6 +558,7 @@ int PlaneAssociator::UpdateHealth(int associations) {
         "the plane map is probably wrong (another frame, a bad registration, an outdated map)",
         map_name_, num_disabled_, judged);
   }
+  window_records_.clear();
   return disabled_now;
 }
 
@@ -520,6 +578,7 @@ void PlaneAssociator::ResetHealth() {
   }
   num_disabled_ = 0;
   pending_.clear();
+  window_records_.clear();
   consensus_ = TrajectoryConsensus{};
 }
 

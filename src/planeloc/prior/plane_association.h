@@ -23,7 +23,9 @@
 // none where they are closer than stats_band, and a point within the band of a crossing plane
 // witnesses neither, even where it is too imprecise to witness that one):
 // when their median sits off the plane by more than bias_min and bias_significance standard
-// errors, over at least bias_min_points points, the plane is disabled for the run (logged once);
+// errors, over at least bias_min_points points, the plane is disabled for the run (logged once),
+// unless the other planes seen from the same keyframes in the current window put the trajectory
+// there off by about the plane's offset, or leave its normal unheld (ExplainedByTrajectory);
 // before that its bias already inflates its sigma (down-weighting).
 // Planes are found through a coarse 3-D grid of their inflated bounding boxes, so a query costs a
 // few polygon tests whatever the size of the map.
@@ -145,8 +147,10 @@ class PlaneAssociator {
 
   // Records the signed distance of point `point_id` from the enabled planes around it (for the
   // bias statistics; the latest value per point counts). Call for every window point, then
-  // FinishRecords before the window's Associate calls.
-  void Record(int point_id, const PointEstimate& estimate);
+  // FinishRecords before the window's Associate calls. `keyframe_id`: the newest keyframe that
+  // observes the point (-1: unknown); a plane is blamed for its offset only where the other
+  // planes seen from the same keyframes say the trajectory there is not off by it.
+  void Record(int point_id, const PointEstimate& estimate, int keyframe_id = -1);
   // Estimates the trajectory's offset from the pending records (options.trajectory_consensus;
   // zero otherwise or without a consensus). The records stay pending.
   void CloseRecords();
@@ -253,9 +257,15 @@ class PlaneAssociator {
     std::size_t index;
     int point_id;
     double distance;
+    int keyframe_id;
   };
-  std::vector<PendingRecord> pending_;  // Record calls since the last FinishRecords
-  TrajectoryConsensus consensus_;       // of the last CloseRecords (supporters: indices in planes_)
+  // Whether the other planes' records of this window, from the keyframes that saw the plane's
+  // own records, put the trajectory off along its normal by about the plane's offset, or leave
+  // that direction unheld (then the plane cannot be told from the trajectory either).
+  bool ExplainedByTrajectory(std::size_t index) const;
+  std::vector<PendingRecord> pending_;         // Record calls since the last FinishRecords
+  std::vector<PendingRecord> window_records_;  // committed since the last UpdateHealth
+  TrajectoryConsensus consensus_;  // of the last CloseRecords (supporters: indices in planes_)
   int num_disabled_ = 0;
   int windows_ = 0;
   long long total_associations_ = 0;

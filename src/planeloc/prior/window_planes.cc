@@ -1,6 +1,8 @@
 #include "planeloc/prior/window_planes.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <vector>
 
@@ -37,8 +39,18 @@ WindowPointEstimates EstimateWindowPoints(const WindowProblem& problem, const Sp
 
 void RecordWindow(const WindowProblem& problem, const WindowPointEstimates& estimates,
                   PlaneAssociator& planes) {
+  // The newest keyframe of the window that observes each point: the keyframes whose pose error
+  // the point's record carries most recently.
+  std::map<int, int> newest_observer;
+  for (const WindowObservation& observation : problem.observations) {
+    int& newest = newest_observer.try_emplace(observation.point_id, -1).first->second;
+    newest = std::max(newest, observation.keyframe_id);
+  }
   for (std::size_t i = 0; i < problem.points.size(); ++i) {
-    if (estimates[i]) planes.Record(problem.points[i].id, *estimates[i]);
+    if (!estimates[i]) continue;
+    const auto observer = newest_observer.find(problem.points[i].id);
+    planes.Record(problem.points[i].id, *estimates[i],
+                  observer == newest_observer.end() ? -1 : observer->second);
   }
 }
 
