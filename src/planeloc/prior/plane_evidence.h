@@ -5,13 +5,12 @@
 //
 // A window point x (its visual estimate, as the plane association uses it) observed from a camera
 // at c measures plane k when it is a witness of plane k by the bias statistics' rule
-// (PlaneAssociator::WitnessedPlane with half-width `band`, disabled planes included: inside the
-// outline grown by the association's polygon margin, clear of the bands of parallel neighbours,
-// within `band` of no crossing plane) with a sigma along the normal of at most
-// `max_point_sigma`. It is seen through plane k when x and c lie on opposite sides of the plane, x
-// more than `band` behind it, and the ray from c to x crosses the plane inside its outline: the
-// surface is not there (a torn-down building) or has moved far. The latest record of each point
-// counts (points are re-estimated in every window that holds them).
+// (PlaneAssociator::WitnessedPlane with half-width `band`, disabled planes included: clear of the
+// bands of parallel neighbours, within `band` of no crossing plane), inside k's outline, with a
+// sigma along the normal of at most `max_point_sigma`. It is seen through plane k when x and c lie
+// on opposite sides of the plane, x more than `band` behind it, and the ray from c to x crosses the
+// plane inside its outline: the surface is not there (a torn-down building) or has moved far. The
+// latest record of each point counts (points are re-estimated in every window that holds them).
 //
 // The summary fits s = offset + g1 a1 + g2 a2 to the measuring points (signed distances s, in-plane
 // coordinates a1 along the map's major axis and a2 across it, both from the plane's centroid)
