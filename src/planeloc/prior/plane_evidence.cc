@@ -102,9 +102,9 @@ void PlaneEvidence::ObserveWindow(int frame, const std::vector<EvidencePoint>& p
     }
     // On a plane: the bias statistics' rule (the plane's band clear of its parallel neighbours',
     // no crossing plane within it), disabled planes included (their offset is what a map update
-    // reports), and precise along the plane's normal.
-    // Inside the outline itself, not the association's margin beyond it: there a neighbouring
-    // surface (a kerb beside a road piece) would be measured as the plane's offset.
+    // reports), precise along the plane's normal, and inside the outline itself, not the
+    // association's margin beyond it (there a kerb beside a road piece would be measured as the
+    // plane's offset).
     const auto witness = associator_.WitnessedPlane(x, options_.band, /*disabled_too=*/true);
     if (!witness || !associator_.InsideOutline(witness->plane_id, x, 0.0)) continue;
     const auto found = index_by_id_.find(witness->plane_id);
