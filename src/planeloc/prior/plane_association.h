@@ -27,16 +27,14 @@
 // unless the other planes seen from the same keyframes in the current window put the trajectory
 // there off by about the plane's offset, or leave its normal unheld (ExplainedByTrajectory);
 // before that its bias already inflates its sigma (down-weighting).
-// Planes are found through a coarse 3-D grid of their inflated bounding boxes, so a query costs a
-// few polygon tests whatever the size of the map.
+// The planes' geometry and lookup grid are PlaneLookup's (plane_lookup.h), their statistics
+// PlaneHealthMonitor's (plane_health.h); this class applies the gate and the witness rule.
 #pragma once
 
 #include <Eigen/Core>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "planeloc/geometry/camera.h"
@@ -44,6 +42,8 @@
 #include "planeloc/geometry/rigid3.h"
 #include "planeloc/io/plane_map.h"
 #include "planeloc/prior/crease_check.h"
+#include "planeloc/prior/plane_health.h"
+#include "planeloc/prior/plane_lookup.h"
 #include "planeloc/prior/trajectory_consensus.h"
 
 namespace planeloc {
@@ -126,14 +126,6 @@ struct PlaneAssociation {
   double map_variance = 0;     // m^2: the plane's part of sigma^2 (rms, map sigma, bias)
 };
 
-// Per plane: statistics of its points' signed distances (the visual estimates).
-struct PlaneHealth {
-  int points = 0;             // distinct points recorded
-  double median = 0;          // metres, signed
-  double standard_error = 0;  // metres, of the median (robust, from the MAD)
-  bool disabled = false;
-};
-
 class PlaneAssociator {
  public:
   // Keeps the planes with at least min_plane_area (all of them when their area is unknown, 0).
@@ -153,33 +145,35 @@ class PlaneAssociator {
   void Record(int point_id, const PointEstimate& estimate, int keyframe_id = -1);
   // Estimates the trajectory's offset from the pending records (options.trajectory_consensus;
   // zero otherwise or without a consensus). The records stay pending.
-  void CloseRecords();
+  void CloseRecords() { health_.CloseRecords(lookup_); }
   // Adds the pending records to the planes' statistics.
-  void CommitRecords();
+  void CommitRecords() { health_.CommitRecords(); }
   // Drops the pending records (the window they measured was moved before it was used).
-  void DiscardRecords() { pending_.clear(); }
+  void DiscardRecords() { health_.DiscardRecords(); }
   // CloseRecords, then CommitRecords. UpdateHealth calls it when records are pending.
-  void FinishRecords();
+  void FinishRecords() { health_.FinishRecords(lookup_); }
   // The offset of the last CloseRecords (map frame, metres): the estimated trajectory error e,
   // points sit at n.e off a correct plane. Zero when no consensus.
-  const Eigen::Vector3d& trajectory_offset() const { return consensus_.offset; }
+  const Eigen::Vector3d& trajectory_offset() const { return health_.consensus().offset; }
   // Drops the point's recorded distance (a point merged into another by map-point fusion: the
   // survivor stands for both, and counting the duplicate would double its weight).
-  void ForgetPoint(int point_id);
+  void ForgetPoint(int point_id) { health_.ForgetPoint(point_id); }
   // Recomputes the statistics of the planes recorded since the last call, disables biased
   // ones (spdlog warn each) and warns once when the map looks wrong. `associations`: points
   // associated in the window just built. Returns the number of planes disabled by this call.
-  int UpdateHealth(int associations);
+  int UpdateHealth(int associations) { return health_.UpdateHealth(lookup_, associations); }
   // How far the trajectory itself may be off in the map frame (position covariance, m^2, map
   // axes), e.g. right after a map lock: a plane's points then sit off it by n^T e for a camera
   // error e, so the bias test allows n^T C n on top of the median's standard error, and only the
   // part of the bias beyond sqrt(n^T C n) down-weights the plane. Zero (the default): the
   // trajectory is taken as right and every bias is the map's.
-  void SetTrajectoryCovariance(const Eigen::Matrix3d& position_covariance_in_map);
+  void SetTrajectoryCovariance(const Eigen::Matrix3d& position_covariance_in_map) {
+    health_.SetTrajectoryCovariance(position_covariance_in_map);
+  }
   // Forgets every plane's statistics and re-enables the disabled ones: after a correction of the
   // map frame (a lock, a re-registration) the biases seen before it measured the trajectory's
   // error as much as the planes'. A plane that is really wrong is disabled again.
-  void ResetHealth();
+  void ResetHealth() { health_.Reset(); }
 
   // The image-side check at keyframe `keyframe_id` (options.crease_check; CreaseChecker::
   // CheckKeyframe) on level options.crease.lsd_level of its left ORB pyramid. std::nullopt when
@@ -207,69 +201,32 @@ class PlaneAssociator {
   // metres (always true for a plane without an outline).
   bool InsideOutline(int id, const Eigen::Vector3d& point_in_map, double margin) const;
   // Whether the map plane `id` is used (planes below min_plane_area are not).
-  bool Contains(int id) const { return index_by_id_.count(id) > 0; }
+  bool Contains(int id) const { return lookup_.IndexOf(id).has_value(); }
 
   // Plane by id (as in planes.json). Throws std::out_of_range for an unknown id.
   const MapPlane& plane(int id) const;
   const PlaneHealth& health(int id) const;
   // sqrt(rms^2 + map_sigma^2 + bias^2) of an enabled plane, metres.
   double PlaneSigma(int id) const;
-  std::size_t size() const { return planes_.size(); }
-  int num_disabled() const { return num_disabled_; }  // currently disabled
-  std::vector<int> DisabledIds() const;               // ids of the disabled planes, ascending
+  std::size_t size() const { return lookup_.size(); }
+  int num_disabled() const { return health_.num_disabled(); }  // currently disabled
+  std::vector<int> DisabledIds() const;  // ids of the disabled planes, ascending
 
  private:
-  struct FlatPlane {
-    MapPlane plane;
-    Eigen::Vector3d u, v;      // in-plane basis
-    IndexedPolygon2d outline;  // in (u, v); fewer than 3 vertices: unbounded
-    PlaneHealth health;
-    double bias2 = 0;                         // m^2, squared median once enough points
-    std::map<int, double> distance_by_point;  // point id -> latest signed distance
-    bool touched = false;
-    bool facade = false;  // a witness of the trajectory's horizontal offset (consensus)
-  };
-  bool InsideOutline(const FlatPlane& flat, const Eigen::Vector3d& point) const;
-  std::int64_t CellKey(const Eigen::Vector3d& point) const;
-  // Calls f(index) for the planes whose cells contain the point; stops when f returns false.
-  template <typename F>
-  void ForCandidates(const Eigen::Vector3d& point_in_map, F f) const;
-  double Variance(const FlatPlane& flat) const;
+  // The index in lookup_ of map plane `id`; throws std::out_of_range for an unknown id.
+  std::size_t IndexOf(int id) const;
+  // sigma_plane^2 of plane `index`: rms^2 + map_sigma^2 + bias^2.
+  double Variance(std::size_t index) const;
   struct IndexedWitness {
     std::size_t index;
     double distance;
   };
   std::optional<IndexedWitness> Witnessed(const Eigen::Vector3d& point_in_map, double band,
                                           bool disabled_too) const;
-  // The consensus of the facades' records in pending_ (offset zero when none).
-  TrajectoryConsensus ConsensusOffset() const;
-  // The consensus of the enabled facades among `indices` over all their recorded points.
-  TrajectoryConsensus AccumulatedConsensus(const std::vector<std::size_t>& indices) const;
 
   PlaneAssociationOptions options_;
-  std::string map_name_;
-  std::vector<FlatPlane> planes_;
-  std::unordered_map<int, std::size_t> index_by_id_;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
-  std::vector<std::size_t> unbounded_;  // planes without an outline: tested everywhere
-  Eigen::Matrix3d trajectory_covariance_ = Eigen::Matrix3d::Zero();
-  struct PendingRecord {
-    std::size_t index;
-    int point_id;
-    double distance;
-    int keyframe_id;
-  };
-  // Whether the other planes' records of this window, from the keyframes that saw the plane's
-  // own records, put the trajectory off along its normal by about the plane's offset, or leave
-  // that direction unheld (then the plane cannot be told from the trajectory either).
-  bool ExplainedByTrajectory(std::size_t index) const;
-  std::vector<PendingRecord> pending_;         // Record calls since the last FinishRecords
-  std::vector<PendingRecord> window_records_;  // committed since the last UpdateHealth
-  TrajectoryConsensus consensus_;  // of the last CloseRecords (supporters: indices in planes_)
-  int num_disabled_ = 0;
-  int windows_ = 0;
-  long long total_associations_ = 0;
-  bool warned_no_association_ = false, warned_most_disabled_ = false;
+  PlaneLookup lookup_;
+  PlaneHealthMonitor health_;               // indexed as lookup_
   std::unique_ptr<CreaseChecker> creases_;  // with options.crease_check
 };
 
