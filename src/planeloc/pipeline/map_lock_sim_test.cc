@@ -332,36 +332,74 @@ class MapLockExactStartSimTest : public ::testing::Test {
     }
     return std::sqrt(sum / run.frames);
   }
+
+  // Tiny seed `seed` and its own clean plane map, run with the default prior (GNSS-like) and with
+  // the exact start, both from the exact pose of frame 0, and (`with_vo`) as visual odometry.
+  struct ExactStartRuns {
+    double ate_prior = 0, ate_exact = 0, ate_vo = 0;  // metres, every frame, no alignment
+    bool locked = false;
+  };
+  static ExactStartRuns RunTinySeed(int seed, bool with_vo) {
+    TempDir dir("planeloc-map-lock-exact");
+    sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
+    options.seed = seed;
+    options.show_progress = false;
+    const sim::SimResult sim = sim::GenerateSequence(options, dir.path() / "sim");
+    MapBuildOptions build;
+    build.show_progress = false;
+    const PointCloud map =
+        BuildMap(build, KittiSequence::Open(sim.sequence_dir), ReadKittiTrajectory(sim.poses_path));
+    WritePlaneMap(dir.path() / "planes.json",
+                  RunMapPlanes(map, MapPlanesOptions()).extraction.plane_map);
+    StartPrior gnss;
+    gnss.sigma_horizontal = 2.0;
+    gnss.sigma_vertical = 0.5;
+    gnss.sigma_yaw_deg = 5.0;
+    const RunSummary with_prior = Run(dir.path(), sim, "prior", gnss);
+    const RunSummary exact = Run(dir.path(), sim, "exact", StartPrior());
+    EXPECT_EQ(with_prior.frames, sim.frames);
+    ExactStartRuns runs;
+    runs.locked = !with_prior.lock_events.empty();
+    runs.ate_prior = Ate(with_prior, sim);
+    runs.ate_exact = Ate(exact, sim);
+    if (with_vo) {
+      RunOptions vo;
+      vo.sequence = sim.sequence_dir;
+      vo.trajectory_path = dir.path() / "vo.txt";
+      vo.deterministic = true;
+      vo.show_progress = false;
+      vo.world_from_cam_initial = sim.world_from_cam.front();
+      runs.ate_vo = Ate(RunSequence(vo), sim);
+    }
+    std::cout << "tiny seed " << seed << ", exact start: ATE with the default prior "
+              << runs.ate_prior << " m, exact start " << runs.ate_exact << " m, VO " << runs.ate_vo
+              << " m\n";
+    return runs;
+  }
 };
 
 TEST_F(MapLockExactStartSimTest, DefaultPriorFromTheExactStartIsNotWorseThanTheExactStart) {
-  TempDir dir("planeloc-map-lock-exact");
-  sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
-  options.seed = 3;
-  options.show_progress = false;
-  const sim::SimResult sim = sim::GenerateSequence(options, dir.path() / "sim");
-  MapBuildOptions build;
-  build.show_progress = false;
-  const PointCloud map =
-      BuildMap(build, KittiSequence::Open(sim.sequence_dir), ReadKittiTrajectory(sim.poses_path));
-  WritePlaneMap(dir.path() / "planes.json",
-                RunMapPlanes(map, MapPlanesOptions()).extraction.plane_map);
-  StartPrior gnss;
-  gnss.sigma_horizontal = 2.0;
-  gnss.sigma_vertical = 0.5;
-  gnss.sigma_yaw_deg = 5.0;
-  const RunSummary with_prior = Run(dir.path(), sim, "prior", gnss);
-  const RunSummary exact = Run(dir.path(), sim, "exact", StartPrior());
-  ASSERT_EQ(with_prior.frames, sim.frames);
-  ASSERT_FALSE(with_prior.lock_events.empty());
-  const double ate_prior = Ate(with_prior, sim), ate_exact = Ate(exact, sim);
-  std::cout << "tiny seed 3, exact start: ATE with the default prior " << ate_prior
-            << " m, exact start " << ate_exact << " m\n";
-  // Measured at this commit (`planeloc_tracking_test --gtest_filter=MapLockExact*`, and
-  // scripts/bench_map_lock.py --preset tiny --seeds 3 --draws 0 --exact-start): 0.0675 m with
-  // the prior against 0.0518 m exact (1.30x; VO 0.0739 m). Before issue 30: 0.53 m.
-  EXPECT_LT(ate_prior, 0.10);
-  EXPECT_LT(ate_prior, 1.6 * ate_exact);
+  const ExactStartRuns runs = RunTinySeed(3, /*with_vo=*/false);
+  ASSERT_TRUE(runs.locked);
+  // Measured (`planeloc_pipeline_test --gtest_filter=MapLockExact*`, 2026-12-07, session 38):
+  // 0.0435 m with the prior against 0.0466 m exact (VO 0.0592 m; `planeloc run` gives the same).
+  // Before issue 30: 0.53 m.
+  EXPECT_LT(runs.ate_prior, 0.10);
+  EXPECT_LT(runs.ate_prior, 1.6 * runs.ate_exact);
+}
+
+// The window after the full lock frees the segment but keeps its oldest keyframe where the lock
+// put it. With that keyframe free too, tiny seed 5's segment slid along the street after a lock
+// that applied nothing, and the default path ended above visual odometry.
+TEST_F(MapLockExactStartSimTest, DefaultPriorFromTheExactStartStaysBelowVisualOdometry) {
+  const ExactStartRuns runs = RunTinySeed(5, /*with_vo=*/true);
+  ASSERT_TRUE(runs.locked);
+  // Measured (`planeloc_pipeline_test --gtest_filter=MapLockExact*`, 2026-12-07, session 38):
+  // 0.0562 m with the prior, 0.0451 m exact (1.25x), VO 0.0594 m; with the oldest keyframe free
+  // (`planeloc run --init-sigma "2 0.5 5" --deterministic` on the same drive) 0.0664 m, above VO
+  // and 1.47x the exact start. The issue's goal is 1.1x; this bound catches the slide.
+  EXPECT_LT(runs.ate_prior, runs.ate_vo);
+  EXPECT_LT(runs.ate_prior, 1.35 * runs.ate_exact);
 }
 
 }  // namespace

@@ -432,11 +432,15 @@ std::optional<BaJob> Tracker::MakeBaJob(int keyframe_id, FrameStats& stats, Fram
   TrackerOptions window_options = options_;
   if (lock_window_pending_ && planes_active) {
     // The lock left the trajectory off by the registration's error, anchors included: one
-    // window over the segment, every keyframe free, lets the planes pull all of it at once.
+    // window over the segment, no anchor, lets the planes pull all of it at once. Its oldest
+    // keyframe stays where the lock put it and holds the gauge: with that one free too, the whole
+    // segment slid along the directions few planes hold (along-track); from the exact start with
+    // the default prior tiny seed 5 then ended above visual odometry (docs/experiments.md,
+    // session 38).
     window_options.ba_window_keyframes = options_.map_lock.structure_keyframes;
     window_options.ba_window_keyframes_turn = options_.map_lock.structure_keyframes;
     window_options.ba_max_fixed_keyframes = 0;
-    window_options.ba_fix_first_keyframe = false;
+    window_options.ba_fix_first_keyframe = true;
     lock_window_pending_ = false;
   }
   job.problem = BuildLocalWindow(map_, keyframe_id, window_options);
