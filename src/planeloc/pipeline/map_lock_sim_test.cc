@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "planeloc/io/kitti_sequence.h"
 #include "planeloc/io/plane_map.h"
@@ -313,16 +314,19 @@ TEST_F(MapLockSimTest, PlaneConsensusCorrectsAnErrorBeyondTheAssociationBand) {
 // 0.53 m ATE against 0.052 m from the exact start.
 class MapLockExactStartSimTest : public ::testing::Test {
  protected:
+  // Plane mode on dir/planes.json with `prior`; visual odometry when `prior` is std::nullopt.
   static RunSummary Run(const std::filesystem::path& dir, const sim::SimResult& sim,
-                        const std::string& name, const StartPrior& prior) {
+                        const std::string& name, const std::optional<StartPrior>& prior) {
     RunOptions run;
     run.sequence = sim.sequence_dir;
     run.trajectory_path = dir / (name + ".txt");
     run.deterministic = true;
     run.show_progress = false;
     run.world_from_cam_initial = sim.world_from_cam.front();
-    run.planes_path = dir / "planes.json";
-    run.start_prior = prior;
+    if (prior) {
+      run.planes_path = dir / "planes.json";
+      run.start_prior = *prior;
+    }
     return RunSequence(run);
   }
   static double Ate(const RunSummary& run, const sim::SimResult& sim) {
@@ -362,15 +366,7 @@ class MapLockExactStartSimTest : public ::testing::Test {
     runs.locked = !with_prior.lock_events.empty();
     runs.ate_prior = Ate(with_prior, sim);
     runs.ate_exact = Ate(exact, sim);
-    if (with_vo) {
-      RunOptions vo;
-      vo.sequence = sim.sequence_dir;
-      vo.trajectory_path = dir.path() / "vo.txt";
-      vo.deterministic = true;
-      vo.show_progress = false;
-      vo.world_from_cam_initial = sim.world_from_cam.front();
-      runs.ate_vo = Ate(RunSequence(vo), sim);
-    }
+    if (with_vo) runs.ate_vo = Ate(Run(dir.path(), sim, "vo", std::nullopt), sim);
     std::cout << "tiny seed " << seed << ", exact start: ATE with the default prior "
               << runs.ate_prior << " m, exact start " << runs.ate_exact << " m, VO " << runs.ate_vo
               << " m\n";

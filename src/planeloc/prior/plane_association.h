@@ -34,7 +34,6 @@
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
-#include <string>
 #include <vector>
 
 #include "planeloc/geometry/camera.h"
