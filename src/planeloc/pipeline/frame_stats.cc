@@ -32,6 +32,9 @@ std::string FrameStats::ToJson() const {
   if (ba_window_keyframes) {
     json += fmt::format(",\"ba_window_keyframes\":{}", *ba_window_keyframes);
   }
+  if (ba_fixed_keyframes) {
+    json += fmt::format(",\"ba_fixed_keyframes\":{}", *ba_fixed_keyframes);
+  }
   if (ba_discarded) json += ",\"ba_discarded\":true";
   if (ba_keyframe) json += fmt::format(",\"ba_keyframe\":{}", *ba_keyframe);
   if (!map_lock.empty()) json += fmt::format(",\"map_lock\":\"{}\"", map_lock);

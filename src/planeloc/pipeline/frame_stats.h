@@ -39,6 +39,9 @@ struct FrameStats {
   // Of that BA: point-to-plane residuals (plane mode) and free keyframes of its window.
   std::optional<int> ba_plane_residuals;
   std::optional<int> ba_window_keyframes;
+  // Its fixed keyframes: the anchors outside the window that see its points, or the one keyframe
+  // that holds the gauge (the lock window after a map lock has no anchor).
+  std::optional<int> ba_fixed_keyframes;
   // A BA result dropped because the map moved to the map frame while it ran.
   bool ba_discarded = false;
   // Keyframe whose local BA result was applied during this frame.

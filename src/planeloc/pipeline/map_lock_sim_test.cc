@@ -398,5 +398,48 @@ TEST_F(MapLockExactStartSimTest, DefaultPriorFromTheExactStartStaysBelowVisualOd
   EXPECT_LT(runs.ate_prior, 1.35 * runs.ate_exact);
 }
 
+// A partial lock also opens one window over the segment with no anchor, held by its oldest
+// keyframe: the planes then hold lateral, height and heading, and pull the whole segment onto
+// them instead of only its newest keyframes. Tiny seed 11 locks partially at frame 36 from the
+// exact start with the default prior and never fully.
+TEST_F(MapLockExactStartSimTest, ThePartialLockOpensOneWindowHeldByItsOldestKeyframe) {
+  TempDir dir("planeloc-map-lock-partial");
+  sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
+  options.seed = 11;
+  options.show_progress = false;
+  const sim::SimResult sim = sim::GenerateSequence(options, dir.path() / "sim");
+  MapBuildOptions build;
+  build.show_progress = false;
+  const PointCloud map =
+      BuildMap(build, KittiSequence::Open(sim.sequence_dir), ReadKittiTrajectory(sim.poses_path));
+  WritePlaneMap(dir.path() / "planes.json",
+                RunMapPlanes(map, MapPlanesOptions()).extraction.plane_map);
+  StartPrior gnss;
+  gnss.sigma_horizontal = 2.0;
+  gnss.sigma_vertical = 0.5;
+  gnss.sigma_yaw_deg = 5.0;
+  const RunSummary run = Run(dir.path(), sim, "prior", gnss);
+  ASSERT_FALSE(run.lock_events.empty());
+  ASSERT_EQ(run.lock_events.front().lock, MapLock::kPartial);
+  const int lock_frame = run.lock_events.front().frame;
+  // The fixed keyframes of each applied BA, before and after the lock.
+  std::vector<int> before, after;
+  for (const FrameStats& frame : run.stats) {
+    if (!frame.ba_fixed_keyframes) continue;
+    (frame.frame > lock_frame ? after : before).push_back(*frame.ba_fixed_keyframes);
+  }
+  ASSERT_GE(after.size(), 2u);
+  std::cout << "partial lock at frame " << lock_frame << "; fixed keyframes of the BAs before it:";
+  for (const int n : before) std::cout << " " << n;
+  std::cout << "; after it:";
+  for (const int n : after) std::cout << " " << n;
+  std::cout << "\n";
+  // Measured (`planeloc_pipeline_test --gtest_filter=MapLockExact*`, 2026-12-07, session 39):
+  // partial lock at frame 36; fixed keyframes of the BAs after it 1 2 3 4 5 6 (the last BA before
+  // it 2); with the window after the full lock only (a8281eb) 2 2 3 4 5 6.
+  EXPECT_EQ(after.front(), 1);
+  EXPECT_GT(after[1], 1);
+}
+
 }  // namespace
 }  // namespace planeloc

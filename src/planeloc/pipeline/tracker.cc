@@ -35,6 +35,7 @@ void RecordBaStats(const BaJob& job, const BaApplyStats& applied, FrameStats& st
   int free_keyframes = 0;
   for (const WindowKeyframe& kf : job.problem.keyframes) free_keyframes += !kf.fixed;
   stats.ba_window_keyframes = free_keyframes;
+  stats.ba_fixed_keyframes = static_cast<int>(job.problem.keyframes.size()) - free_keyframes;
 }
 
 }  // namespace
@@ -615,7 +616,13 @@ void Tracker::LockBookkeeping(const MapCorrection& correction, int frame_id) {
     planes_->SetTrajectoryCovariance(correction.camera_position_covariance);
     settle_until_keyframe_id_ = map_.last_keyframe_id() + options_.map_lock.settle_keyframes;
   }
-  if (locker_->state() == MapLock::kLocked && !correction.recorrection) lock_window_pending_ = true;
+  // The partial lock too: the planes then hold lateral, height and heading, and the window that
+  // lets them pull the whole segment at once lowered the draws' ATE after the full lock (small 11
+  // and 43; docs/experiments.md, session 39). A partial result is applied once, so at most two
+  // such windows per segment.
+  if (locker_->state() != MapLock::kSearching && !correction.recorrection) {
+    lock_window_pending_ = true;
+  }
   lock_events_.push_back({frame_id, locker_->state(), map_from_world, correction.first_keyframe_id,
                           correction.recorrection});
 }

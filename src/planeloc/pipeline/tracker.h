@@ -190,7 +190,8 @@ class Tracker {
   int consensus_corrections_ = 0;
   // Keyframe id from which plane bias statistics stop allowing for the last lock's error; -1: none.
   int settle_until_keyframe_id_ = -1;
-  // After a full lock: the next window spans the segment with every keyframe free.
+  // After a lock (partial or full): the next window spans the segment, no anchor, its oldest
+  // keyframe fixed.
   bool lock_window_pending_ = false;
   BaCounts ba_counts_;
   Rigid3d cam_from_world_initial_;
