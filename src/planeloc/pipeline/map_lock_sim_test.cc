@@ -343,23 +343,31 @@ class MapLockExactStartSimTest : public ::testing::Test {
     double ate_prior = 0, ate_exact = 0, ate_vo = 0;  // metres, every frame, no alignment
     bool locked = false;
   };
-  static ExactStartRuns RunTinySeed(int seed, bool with_vo) {
-    TempDir dir("planeloc-map-lock-exact");
+  // Renders tiny seed `seed` into dir/sim and writes its own clean plane map to dir/planes.json.
+  static sim::SimResult MakeTinyDrive(int seed, const std::filesystem::path& dir) {
     sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
     options.seed = seed;
     options.show_progress = false;
-    const sim::SimResult sim = sim::GenerateSequence(options, dir.path() / "sim");
+    sim::SimResult sim = sim::GenerateSequence(options, dir / "sim");
     MapBuildOptions build;
     build.show_progress = false;
     const PointCloud map =
         BuildMap(build, KittiSequence::Open(sim.sequence_dir), ReadKittiTrajectory(sim.poses_path));
-    WritePlaneMap(dir.path() / "planes.json",
-                  RunMapPlanes(map, MapPlanesOptions()).extraction.plane_map);
+    WritePlaneMap(dir / "planes.json", RunMapPlanes(map, MapPlanesOptions()).extraction.plane_map);
+    return sim;
+  }
+  // `planeloc run`'s default `--init-sigma "2 0.5 5"` (GNSS-like).
+  static StartPrior DefaultPrior() {
     StartPrior gnss;
     gnss.sigma_horizontal = 2.0;
     gnss.sigma_vertical = 0.5;
     gnss.sigma_yaw_deg = 5.0;
-    const RunSummary with_prior = Run(dir.path(), sim, "prior", gnss);
+    return gnss;
+  }
+  static ExactStartRuns RunTinySeed(int seed, bool with_vo) {
+    TempDir dir("planeloc-map-lock-exact");
+    const sim::SimResult sim = MakeTinyDrive(seed, dir.path());
+    const RunSummary with_prior = Run(dir.path(), sim, "prior", DefaultPrior());
     const RunSummary exact = Run(dir.path(), sim, "exact", StartPrior());
     EXPECT_EQ(with_prior.frames, sim.frames);
     ExactStartRuns runs;
@@ -404,21 +412,8 @@ TEST_F(MapLockExactStartSimTest, DefaultPriorFromTheExactStartStaysBelowVisualOd
 // exact start with the default prior and never fully.
 TEST_F(MapLockExactStartSimTest, ThePartialLockOpensOneWindowHeldByItsOldestKeyframe) {
   TempDir dir("planeloc-map-lock-partial");
-  sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
-  options.seed = 11;
-  options.show_progress = false;
-  const sim::SimResult sim = sim::GenerateSequence(options, dir.path() / "sim");
-  MapBuildOptions build;
-  build.show_progress = false;
-  const PointCloud map =
-      BuildMap(build, KittiSequence::Open(sim.sequence_dir), ReadKittiTrajectory(sim.poses_path));
-  WritePlaneMap(dir.path() / "planes.json",
-                RunMapPlanes(map, MapPlanesOptions()).extraction.plane_map);
-  StartPrior gnss;
-  gnss.sigma_horizontal = 2.0;
-  gnss.sigma_vertical = 0.5;
-  gnss.sigma_yaw_deg = 5.0;
-  const RunSummary run = Run(dir.path(), sim, "prior", gnss);
+  const sim::SimResult sim = MakeTinyDrive(11, dir.path());
+  const RunSummary run = Run(dir.path(), sim, "prior", DefaultPrior());
   ASSERT_FALSE(run.lock_events.empty());
   ASSERT_EQ(run.lock_events.front().lock, MapLock::kPartial);
   const int lock_frame = run.lock_events.front().frame;
