@@ -9,7 +9,8 @@
 // Threads: feature extraction uses TBB inside features/; the local BA runs on a worker thread
 // scheduled by a BaScheduler (deferral, lag bound, stale results), or in line when
 // options.deterministic (bit-identical runs). A result applies only to the keyframes and points
-// that were not moved since its window was built (BaCounts).
+// that were not moved since its window was built (BaCounts). The map lock's side (registrations,
+// corrections, the settling after a lock) is defined in tracker_lock.cc.
 #pragma once
 
 #include <chrono>
