@@ -1,11 +1,11 @@
 // The tracker's side of the map lock (tracker.h): starting registrations, applying their
 // corrections and the planes' trajectory consensus to the segment, and the settling after a lock.
 // Split from tracker.cc, which keeps the per-frame tracking and the window BA's scheduling.
-#include "planeloc/pipeline/tracker.h"
-
 #include <optional>
 #include <utility>
 #include <vector>
+
+#include "planeloc/pipeline/tracker.h"
 
 namespace planeloc {
 
