@@ -17,7 +17,8 @@ docs/benchmarks.md. Writes, under --out (build/bench by default):
                  ABLATION_DRIVE (scripts/bench_ablation.sh)
   maplock.json   full mode only, issue 30: rows of scripts/bench_map_lock.py, the default prior
                  from the exact start on MAP_LOCK_EXACT_DRIVES and draws from the prior on
-                 MAP_LOCK_DRAW_DRIVES
+                 MAP_LOCK_DRAW_DRIVES; with --only-map-lock this file alone, carrying its own run
+                 (date, CPU, commit) for scripts/bench_report_map_lock.py --splice
   data/<preset>-<seed>/  simulator output, map.pcd, planes.json (reused by later runs; --fresh
                  rebuilds them) and steps.json (how they were made: commands, wall time, peak RSS);
                  the wrong maps and the runs on them (wrong-map/, abl-<variant>/)
@@ -401,12 +402,14 @@ def run_robustness(planeloc, data_dir, prepared, fresh):
     return {"kinds": WRONG_MAP_KINDS, "wrong_maps": wrong_maps, "ablation": ablation}
 
 
-def run_map_lock(planeloc, data_dir, prepared, fresh):
+def run_map_lock(planeloc, data_dir, prepared, fresh, presets=None):
     """Issue 30: rows of scripts/bench_map_lock.py over MAP_LOCK_EXACT_DRIVES (exact start) and
-    MAP_LOCK_DRAW_DRIVES (draws from the prior)."""
+    MAP_LOCK_DRAW_DRIVES (draws from the prior); only the drives of `presets` when given."""
     rows = []
     plan = [(preset, seeds, 0, True) for preset, seeds in MAP_LOCK_EXACT_DRIVES]
     plan += [(preset, seeds, MAP_LOCK_DRAWS, False) for preset, seeds in MAP_LOCK_DRAW_DRIVES]
+    left_out = sorted({preset for preset, _, _, _ in plan if presets and preset not in presets})
+    plan = [step for step in plan if not presets or step[0] in presets]
     for preset, seeds, draws, exact in plan:
         for seed in seeds:
             if (preset, seed) not in prepared:
@@ -422,7 +425,25 @@ def run_map_lock(planeloc, data_dir, prepared, fresh):
         run_measured(cmd, os.path.join(data_dir, f"maplock-{preset}-{draws}.log"))
         with open(out) as f:
             rows += json.load(f)["rows"]
-    return {"draws_per_seed": MAP_LOCK_DRAWS, "rows": rows}
+    return {"draws_per_seed": MAP_LOCK_DRAWS, "rows": rows, "presets_left_out": left_out}
+
+
+def only_map_lock(planeloc, data_dir, out, meta, args):
+    """--only-map-lock: maplock.json alone, with the run it comes from."""
+    presets = None if args.only_map_lock == "all" else args.only_map_lock.split(",")
+    meta["command"] = "scripts/bench_run.py --only-map-lock" + (
+        f" {args.only_map_lock}" if presets else "")
+    try:
+        map_lock = run_map_lock(planeloc, data_dir, set(), args.fresh, presets)
+    except BenchError as e:
+        print(f"bench_run.py: {e}", file=sys.stderr)
+        return 1
+    meta["end"] = now_utc()
+    map_lock["meta"] = meta
+    with open(os.path.join(out, "maplock.json"), "w") as f:
+        json.dump(map_lock, f, indent=1)
+    print(f"results in {rel(os.path.join(out, 'maplock.json'))}")
+    return 0
 
 
 def main():
@@ -436,6 +457,10 @@ def main():
                         help="full mode without the wrong-map and ablation runs (issue 10)")
     parser.add_argument("--no-map-lock", action="store_true",
                         help="full mode without the default-start runs (issue 30)")
+    parser.add_argument("--only-map-lock", metavar="PRESETS", nargs="?", const="all",
+                        help="only issue 30's default-start runs (maplock.json, with this run's "
+                        "date, CPU and commit), on the drives of the comma-separated presets "
+                        "(all when none given)")
     parser.add_argument("--drives", type=parse_drives,
                         help='instead of the mode\'s drives, e.g. "small:3,11,21 kitti07-like:1"')
     args = parser.parse_args()
@@ -445,6 +470,10 @@ def main():
     planeloc = os.path.join(bin_dir, "planeloc")
     data_dir = os.path.join(out, "data")
     os.makedirs(out, exist_ok=True)
+    if args.only_map_lock:
+        if os.path.exists(os.path.join(out, "maplock.json")):
+            os.remove(os.path.join(out, "maplock.json"))
+        return only_map_lock(planeloc, data_dir, out, machine_and_commit(build, False), args)
     # A failed run leaves no old results behind.
     for stale in ("meta.json", "pipeline.json", "robustness.json", "maplock.json"):
         if os.path.exists(os.path.join(out, stale)):
