@@ -31,6 +31,10 @@
 #   --no-build  use the binaries in the build folder as they are
 #   --drives    other simulated drives than the mode's, e.g. "small:3 kitti07-like:1" (the page
 #               says so)
+# One section alone, spliced into the page as it is (each row says its own run): issue 30's
+#   `scripts/bench_run.py --only-map-lock [tiny,small] --out DIR` then
+#   `scripts/bench_report_map_lock.py --results DIR`; issue 35's `scripts/bench_room.py --out
+#   DIR/room.json` then `scripts/bench_report_room.py --results DIR`; issue 34's likewise.
 # Results: JSON in build/bench/ (scripts/bench_run.py), then docs/benchmarks.md written from them
 # by scripts/bench_report.py. Never edit a number of docs/benchmarks.md by hand: rerun this. On a
 # shared machine, run it under `nice -n 10`. PLANELOC_BUILD_DIR picks another build folder.

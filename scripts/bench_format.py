@@ -40,6 +40,13 @@ def cell(text):
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
+def run_tag(meta):
+    """The short 'measured' cell every row carries: date, CPU, logical CPUs, commit."""
+    dirty = "+" if meta.get("dirty") else ""
+    return cell(f"{meta['start'][:10]}, {meta['cpu_model']}, {meta['logical_cpus']} CPUs, "
+                f"{meta['commit']}{dirty}")
+
+
 def table(header, rows):
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(row) + " |" for row in rows]

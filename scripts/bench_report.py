@@ -49,7 +49,7 @@ import bench_report_live_view
 import bench_report_prior_modes
 import bench_report_room
 import bench_report_wrong_maps
-from bench_format import cell, code, mean_or_none, num, ratio, spread, table
+from bench_format import cell, code, mean_or_none, num, ratio, run_tag, spread, table
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -153,13 +153,6 @@ def header(meta):
         "in the same run, on the same machine under the same load. The dated experiment records "
         "of issues 4–15, with their commands, are in [experiments.md](experiments.md).\n\n")
     return intro + table(["run", ""], rows)
-
-
-def run_tag(meta):
-    """The short 'measured' cell every row carries: date, CPU, logical CPUs, commit."""
-    dirty = "+" if meta.get("dirty") else ""
-    return cell(f"{meta['start'][:10]}, {meta['cpu_model']}, {meta['logical_cpus']} CPUs, "
-                f"{meta['commit']}{dirty}")
 
 
 # ---------------------------------------------------------------------------------------------

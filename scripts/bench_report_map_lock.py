@@ -3,8 +3,17 @@ scripts/bench_run.py (rows of scripts/bench_map_lock.py): per drive, the default
 exact start pose against the exact start itself and VO; per drive with draws, the runs from start
 poses drawn from the prior; every applied correction against its 3-sigma gate and the planes a
 clean map had disabled.
+
+scripts/bench_report.py includes it in the full page. Run alone with --splice, it replaces this
+section of an existing docs/benchmarks.md from the maplock.json of `scripts/bench_run.py
+--only-map-lock [PRESETS]` (which carries its own run), so that issue 30's benchmark can be
+measured without the hours of the full bench.
 """
-from bench_format import code, num, table
+import sys
+
+from bench_format import code, num, run_tag, splice_report_main, table
+
+TITLE = "## The default start (issue 30)"
 
 EXACT_BOUND = 1.1  # default prior from the exact start / exact start, all frames
 AFTER_LOCK_BOUND = 1.1  # a draw after its lock / the exact start on the same frames
@@ -78,7 +87,7 @@ def section(data, tag):
     failed = [r for r in lock["rows"] if r["rc"] != 0]
     exact_table, exact_summary = exact_start(exact_rows, tag)
     parts = [
-        "## The default start (issue 30)\n\n"
+        f"{TITLE}\n\n"
         "`planeloc run --planes` with its default prior `--init-sigma \"2 0.5 5\"`, by "
         f"{code('scripts/bench_map_lock.py --exact-start')} on each drive (`--deterministic`, "
         "ATE RMSE without alignment, metres). A registration is applied restricted to the DoF "
@@ -108,7 +117,23 @@ def section(data, tag):
                      "above VO", "all frames, final", "above VO, final",
                      "corrections within 3σ", "runs with planes disabled",
                      "measured"], draws(draw_rows, tag)))
+    if lock.get("presets_left_out"):
+        parts.append("Not in this run: the drives of " + ", ".join(
+            f"`{p}`" for p in lock["presets_left_out"]) + " (`scripts/bench_run.py "
+            "--only-map-lock` with a list of presets).")
     if failed:
         parts.append("Failed runs: " + ", ".join(
             f"{r['preset']} {r['seed']} draw {r['draw']} (exit {r['rc']})" for r in failed) + ".")
     return "\n\n".join(parts)
+
+
+def main():
+    def alone(results):
+        return section({"map_lock": results}, run_tag(results["meta"]))
+
+    return splice_report_main(__doc__.split("\n\n")[0], "maplock.json",
+                              "bench_run.py --only-map-lock", TITLE, alone, "default start")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -6,6 +6,7 @@ next to each check), not by re-running the script's own rules.
 
 Usage: tests/bench_report_test.py  (python3 -m unittest also works)
 """
+import json
 import os
 import subprocess
 import sys
@@ -327,6 +328,51 @@ class PriorModesSectionTest(unittest.TestCase):
         # the only rural drive has no depth ATE: not measured on every rural drive.
         self.assertIn("| rural drives: depth ATE ≤ 0.5× VO | — | not met |", text)
         self.assertIn("| rural 2 | 1.000 | 0.500 | 1.100 | failed | 0.300 |", text)
+
+
+class MapLockSpliceTest(unittest.TestCase):
+    """scripts/bench_report_map_lock.py alone: the maplock.json of `bench_run.py --only-map-lock`
+    (the fixture's rows with a run of their own) replaces that one section of an existing page."""
+
+    def test_splices_the_section_with_its_own_run(self):
+        with open(os.path.join(FIXTURE, "maplock.json")) as f:
+            lock = json.load(f)
+        lock["meta"] = {"start": "2026-12-07T22:00:00Z", "cpu_model": "Other CPU",
+                        "logical_cpus": 4, "commit": "def5678", "dirty": False}
+        lock["presets_left_out"] = ["kitti07-like"]
+        page = ("# Benchmarks\n\n## Before\n\nkept\n\n## The default start (issue 30)\n\n"
+                "old table\n\n## After\n\nkept too\n")
+        with tempfile.TemporaryDirectory() as tmp:
+            with open(os.path.join(tmp, "maplock.json"), "w") as f:
+                json.dump(lock, f)
+            doc = os.path.join(tmp, "benchmarks.md")
+            with open(doc, "w") as f:
+                f.write(page)
+            proc = subprocess.run([sys.executable, os.path.join(HERE, "..", "scripts",
+                                                                "bench_report_map_lock.py"),
+                                   "--results", tmp, "--splice", doc],
+                                  capture_output=True, text=True)
+            self.assertEqual(proc.returncode, 0, proc.stderr)
+            with open(doc) as f:
+                out = f.read()
+        self.assertNotIn("old table", out)
+        self.assertIn("## Before\n\nkept\n", out)
+        self.assertIn("## After\n\nkept too\n", out)
+        section = out[out.index("## The default start"):out.index("## After")]
+        # tiny 3's row as in the full page (0.06 / 0.05 = 1.20), measured by the run of the file.
+        row = next(line for line in section.splitlines() if line.startswith("| tiny 3 |"))
+        self.assertIn("| **1.20** |", row)
+        self.assertTrue(row.endswith("| 2026-12-07, Other CPU, 4 CPUs, def5678 |"), row)
+        self.assertIn("Not in this run: the drives of `kitti07-like`", section)
+
+    def test_missing_results_fail_cleanly(self):
+        with tempfile.TemporaryDirectory() as empty:
+            proc = subprocess.run([sys.executable, os.path.join(HERE, "..", "scripts",
+                                                                "bench_report_map_lock.py"),
+                                   "--results", empty, "--splice", os.path.join(empty, "b.md")],
+                                  capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 2)
+        self.assertIn("maplock.json", proc.stderr)
 
 
 if __name__ == "__main__":
