@@ -17,6 +17,7 @@
 #include "planeloc/map/map_builder.h"
 #include "planeloc/map/map_planes.h"
 #include "planeloc/pipeline/run_sequence.h"
+#include "planeloc/pipeline/tiny_drive_for_test.h"
 #include "planeloc/pipeline/tracker.h"
 #include "planeloc/sim/simulator.h"
 #include "planeloc/util/temp_dir.h"
@@ -30,24 +31,11 @@ class MapLockSimTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = std::make_unique<TempDir>("planeloc-map-lock-sim");
-    sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
-    options.seed = 5;  // the other tracking tests use the preset's default seed
-    options.show_progress = false;
-    result_ =
-        std::make_unique<sim::SimResult>(sim::GenerateSequence(options, dir_->path() / "sim"));
-    MapBuildOptions build;
-    build.show_progress = false;
-    const PointCloud map = BuildMap(build, KittiSequence::Open(result_->sequence_dir),
-                                    ReadKittiTrajectory(result_->poses_path));
-    planes_ =
-        std::make_unique<PlaneMap>(RunMapPlanes(map, MapPlanesOptions()).extraction.plane_map);
-    WritePlaneMap(dir_->path() / "planes.json", *planes_);
+    // The other tracking tests use the preset's default seed.
+    result_ = &testing::SharedTinySim(kSeed);
+    planes_ = &testing::SharedTinyPlanes(kSeed);
   }
-  static void TearDownTestSuite() {
-    result_.reset();
-    planes_.reset();
-    dir_.reset();
-  }
+  static void TearDownTestSuite() { dir_.reset(); }
 
   // The first GT pose moved 1.2 m sideways (x), 0.3 m up and 0.6 m ahead, and turned 3 deg.
   static Rigid3d CoarseStart() {
@@ -65,7 +53,7 @@ class MapLockSimTest : public ::testing::Test {
     run.deterministic = true;
     run.show_progress = false;
     run.world_from_cam_initial = CoarseStart();
-    run.planes_path = dir_->path() / "planes.json";
+    run.planes_path = testing::SharedTinyPlanesPath(kSeed);
     run.start_prior = prior;
     return RunSequence(run);
   }
@@ -77,13 +65,14 @@ class MapLockSimTest : public ::testing::Test {
   }
 
   static std::unique_ptr<TempDir> dir_;
-  static std::unique_ptr<sim::SimResult> result_;
-  static std::unique_ptr<PlaneMap> planes_;
+  static constexpr int kSeed = 5;
+  static const sim::SimResult* result_;
+  static const PlaneMap* planes_;
 };
 
 std::unique_ptr<TempDir> MapLockSimTest::dir_;
-std::unique_ptr<sim::SimResult> MapLockSimTest::result_;
-std::unique_ptr<PlaneMap> MapLockSimTest::planes_;
+const sim::SimResult* MapLockSimTest::result_ = nullptr;
+const PlaneMap* MapLockSimTest::planes_ = nullptr;
 
 TEST_F(MapLockSimTest, CoarseStartLocksOntoThePlaneMap) {
   StartPrior gnss;
@@ -181,9 +170,6 @@ TEST_F(MapLockSimTest, RoadOnlyMapNeverLocks) {
   EXPECT_GT(mean_lateral, 1.0);
 }
 
-namespace planeloc {
-namespace {
-
 // Recovery in the map after an outage: 10 black frames, or 10 frames that never arrive (1 s at
 // 10 Hz). The run starts at the exact map pose so that the outage is the only error source.
 TEST_F(MapLockSimTest, PoseAfterAnOutageIsBackInTheMapWithinTwentyFrames) {
@@ -191,7 +177,7 @@ TEST_F(MapLockSimTest, PoseAfterAnOutageIsBackInTheMapWithinTwentyFrames) {
   for (const bool black : {true, false}) {
     TrackerOptions options;
     options.deterministic = true;
-    Tracker tracker(sequence.camera(), options, result_->world_from_cam.front(), planes_.get());
+    Tracker tracker(sequence.camera(), options, result_->world_from_cam.front(), planes_);
     constexpr int kOutageStart = 15, kOutageEnd = 25;  // frames [15, 25)
     double worst_after = 0;
     const int frames = std::min<int>(result_->frames, kOutageEnd + 20);
@@ -305,9 +291,6 @@ TEST_F(MapLockSimTest, PlaneConsensusCorrectsAnErrorBeyondTheAssociationBand) {
   EXPECT_GT(runs[1].final_lateral_error, 0.2);
 }
 
-}  // namespace
-}  // namespace planeloc
-
 // Issue 30: the default path (a GNSS-like prior) given the *exact* start must not end worse than
 // the exact start itself. Tiny seed 3: a partial lock at frame 22 used to move the camera 0.71 m
 // along the street, the direction the registration called unobserved, and the run ended at
@@ -343,18 +326,11 @@ class MapLockExactStartSimTest : public ::testing::Test {
     double ate_prior = 0, ate_exact = 0, ate_vo = 0;  // metres, every frame, no alignment
     bool locked = false;
   };
-  // Renders tiny seed `seed` into dir/sim and writes its own clean plane map to dir/planes.json.
-  static sim::SimResult MakeTinyDrive(int seed, const std::filesystem::path& dir) {
-    sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
-    options.seed = seed;
-    options.show_progress = false;
-    sim::SimResult sim = sim::GenerateSequence(options, dir / "sim");
-    MapBuildOptions build;
-    build.show_progress = false;
-    const PointCloud map =
-        BuildMap(build, KittiSequence::Open(sim.sequence_dir), ReadKittiTrajectory(sim.poses_path));
-    WritePlaneMap(dir / "planes.json", RunMapPlanes(map, MapPlanesOptions()).extraction.plane_map);
-    return sim;
+  // Tiny seed `seed` (rendered once per test process) with its own clean plane map written to
+  // dir/planes.json.
+  static const sim::SimResult& MakeTinyDrive(int seed, const std::filesystem::path& dir) {
+    WritePlaneMap(dir / "planes.json", testing::SharedTinyPlanes(seed));
+    return testing::SharedTinySim(seed);
   }
   // `planeloc run`'s default `--init-sigma "2 0.5 5"` (GNSS-like).
   static StartPrior DefaultPrior() {
@@ -366,7 +342,7 @@ class MapLockExactStartSimTest : public ::testing::Test {
   }
   static ExactStartRuns RunTinySeed(int seed, bool with_vo) {
     TempDir dir("planeloc-map-lock-exact");
-    const sim::SimResult sim = MakeTinyDrive(seed, dir.path());
+    const sim::SimResult& sim = MakeTinyDrive(seed, dir.path());
     const RunSummary with_prior = Run(dir.path(), sim, "prior", DefaultPrior());
     const RunSummary exact = Run(dir.path(), sim, "exact", StartPrior());
     EXPECT_EQ(with_prior.frames, sim.frames);
@@ -412,7 +388,7 @@ TEST_F(MapLockExactStartSimTest, DefaultPriorFromTheExactStartStaysBelowVisualOd
 // exact start with the default prior and never fully.
 TEST_F(MapLockExactStartSimTest, ThePartialLockOpensOneWindowHeldByItsOldestKeyframe) {
   TempDir dir("planeloc-map-lock-partial");
-  const sim::SimResult sim = MakeTinyDrive(11, dir.path());
+  const sim::SimResult& sim = MakeTinyDrive(11, dir.path());
   const RunSummary run = Run(dir.path(), sim, "prior", DefaultPrior());
   ASSERT_FALSE(run.lock_events.empty());
   ASSERT_EQ(run.lock_events.front().lock, MapLock::kPartial);

@@ -12,6 +12,7 @@
 #include "planeloc/pipeline/run_sequence.h"
 #include "planeloc/pipeline/settings.h"
 #include "planeloc/pipeline/settings_fixtures_for_test.h"
+#include "planeloc/pipeline/tiny_drive_for_test.h"
 #include "planeloc/sim/simulator.h"
 #include "planeloc/util/temp_dir.h"
 
@@ -25,15 +26,9 @@ class SettingsRunTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = std::make_unique<TempDir>("planeloc-settings-run");
-    sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
-    options.show_progress = false;
-    result_ =
-        std::make_unique<sim::SimResult>(sim::GenerateSequence(options, dir_->path() / "sim"));
+    result_ = &testing::SharedTinySim();
   }
-  static void TearDownTestSuite() {
-    result_.reset();
-    dir_.reset();
-  }
+  static void TearDownTestSuite() { dir_.reset(); }
 
   static RunSummary RunWith(const std::string& name, const char* settings, bool from_settings) {
     RunOptions run;
@@ -56,11 +51,11 @@ class SettingsRunTest : public ::testing::Test {
 
   static constexpr int kFrames = 30;
   static std::unique_ptr<TempDir> dir_;
-  static std::unique_ptr<sim::SimResult> result_;
+  static const sim::SimResult* result_;
 };
 
 std::unique_ptr<TempDir> SettingsRunTest::dir_;
-std::unique_ptr<sim::SimResult> SettingsRunTest::result_;
+const sim::SimResult* SettingsRunTest::result_ = nullptr;
 
 TEST_F(SettingsRunTest, OrbSlamFilesRunBitIdenticalToPlanelocKeys) {
   const RunSummary reference = RunWith("planeloc", kPlanelocKeys, false);

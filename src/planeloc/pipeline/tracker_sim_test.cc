@@ -17,6 +17,7 @@
 #include "planeloc/map/map_builder.h"
 #include "planeloc/map/map_planes.h"
 #include "planeloc/pipeline/run_sequence.h"
+#include "planeloc/pipeline/tiny_drive_for_test.h"
 #include "planeloc/pipeline/tracker.h"
 #include "planeloc/sim/simulator.h"
 #include "planeloc/util/temp_dir.h"
@@ -28,16 +29,9 @@ class TrackerSimTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = std::make_unique<TempDir>("planeloc-tracking-sim");
-    sim::SimOptions options = sim::SimOptions::FromPreset("tiny");
-    options.show_progress = false;
-    result_ =
-        std::make_unique<sim::SimResult>(sim::GenerateSequence(options, dir_->path() / "sim"));
+    result_ = &testing::SharedTinySim();
   }
-  static void TearDownTestSuite() {
-    map_cloud_.reset();
-    result_.reset();
-    dir_.reset();
-  }
+  static void TearDownTestSuite() { dir_.reset(); }
 
   static RunOptions Run(const std::string& name, bool deterministic) {
     RunOptions run;
@@ -79,25 +73,14 @@ class TrackerSimTest : public ::testing::Test {
 
   // The LiDAR map of the drive (the simulated scans at the GT poses, as a mapping run would have
   // them), built once for the tests that need it.
-  static const PointCloud& MapCloud() {
-    if (!map_cloud_) {
-      MapBuildOptions build;
-      build.show_progress = false;
-      map_cloud_ =
-          std::make_unique<PointCloud>(BuildMap(build, KittiSequence::Open(result_->sequence_dir),
-                                                ReadKittiTrajectory(result_->poses_path)));
-    }
-    return *map_cloud_;
-  }
+  static const PointCloud& MapCloud() { return testing::SharedTinyMap(); }
 
   static std::unique_ptr<TempDir> dir_;
-  static std::unique_ptr<sim::SimResult> result_;
-  static std::unique_ptr<PointCloud> map_cloud_;
+  static const sim::SimResult* result_;
 };
 
 std::unique_ptr<TempDir> TrackerSimTest::dir_;
-std::unique_ptr<sim::SimResult> TrackerSimTest::result_;
-std::unique_ptr<PointCloud> TrackerSimTest::map_cloud_;
+const sim::SimResult* TrackerSimTest::result_ = nullptr;
 
 // Bounds at about 1.5-2x of the values measured on tiny seeds 1 (this fixture), 3, 11 and 21
 // (2026-12-02, commit after e712238): largest per-pose error 0.126 / 0.117 / 0.144 / 0.098 m, end
@@ -122,10 +105,8 @@ TEST_F(TrackerSimTest, TinyTracksEveryFrameWithSmallDrift) {
 // The product: the same drive localized in the LiDAR plane map built from the simulated scans
 // (GT poses, as a mapping run would have them) is closer to the truth than visual odometry.
 TEST_F(TrackerSimTest, PlaneMapReducesTheErrorOfTheBaseline) {
-  const MapPlanesOutput planes = RunMapPlanes(MapCloud(), MapPlanesOptions());
-  ASSERT_GE(planes.extraction.plane_map.planes.size(), 3u);  // road, sidewalks, facades
-  const std::filesystem::path planes_path = dir_->path() / "planes.json";
-  WritePlaneMap(planes_path, planes.extraction.plane_map);
+  ASSERT_GE(testing::SharedTinyPlanes().planes.size(), 3u);  // road, sidewalks, facades
+  const std::filesystem::path planes_path = testing::SharedTinyPlanesPath();
 
   RunOptions visual = Run("visual", true);
   visual.world_from_cam_initial = result_->world_from_cam.front();

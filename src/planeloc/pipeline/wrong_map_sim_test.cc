@@ -16,6 +16,7 @@
 #include "planeloc/map/map_builder.h"
 #include "planeloc/map/map_planes.h"
 #include "planeloc/pipeline/run_sequence.h"
+#include "planeloc/pipeline/tiny_drive_for_test.h"
 #include "planeloc/sim/simulator.h"
 #include "planeloc/util/temp_dir.h"
 
@@ -52,14 +53,8 @@ double Ate(const RunSummary& summary, const std::vector<Rigid3d>& gt) {
 
 TEST(WrongMapSimTest, MovedPlanesAreDisabledAndTheAteStaysNearTheCleanMaps) {
   TempDir dir("planeloc-wrong-map-sim");
-  sim::SimOptions sim_options = sim::SimOptions::FromPreset("tiny");
-  sim_options.show_progress = false;
-  const sim::SimResult sim = sim::GenerateSequence(sim_options, dir.path() / "sim");
-  MapBuildOptions build;
-  build.show_progress = false;
-  const PointCloud cloud =
-      BuildMap(build, KittiSequence::Open(sim.sequence_dir), ReadKittiTrajectory(sim.poses_path));
-  const PlaneMap clean = RunMapPlanes(cloud, MapPlanesOptions()).extraction.plane_map;
+  const sim::SimResult& sim = testing::SharedTinySim();
+  const PlaneMap& clean = testing::SharedTinyPlanes();
   PlaneMap moved_map = clean;
   const std::vector<int> moved = MoveLargestPlanes(moved_map, 0.2);
   ASSERT_EQ(moved.size(), 2u);
