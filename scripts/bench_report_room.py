@@ -127,6 +127,11 @@ def goals(seeds):
 
 def section(room):
     tag = f"{room['date']}, {room['cpu']}, {room['cpus']} CPUs, {room['commit']}"
+    if room.get("load_end"):
+        # The 15-minute load average at the end covers most of a run of the bench.
+        tag += (f" (load average at the start {room['load_start'][0]:.1f}, over the last 15 "
+                f"minutes {room['load_end'][2]:.1f}: fps are comparable only between runs on "
+                "an idle machine)")
     seeds = room["seeds"]
     command = room.get("command", "scripts/bench_room.py")
     ok = [s for s in seeds if "error" not in s]

@@ -229,6 +229,7 @@ def main():
     seeds = [int(s) for s in args.seeds.split(",") if s.strip()]
     commit = tree_commit("-dirty")
     os.makedirs(work, exist_ok=True)
+    load_start = list(os.getloadavg())
     results = []
     for seed in seeds:
         try:
@@ -242,6 +243,8 @@ def main():
         "command": f"scripts/bench_room.py --seeds {','.join(map(str, seeds))} "
                    f"--frames {args.frames} --draws {args.draws}",
         "seeds": results,
+        # What else ran on the machine: fps are only comparable between runs on an idle one.
+        "load_start": load_start, "load_end": list(os.getloadavg()),
     }
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     with open(out, "w") as f:

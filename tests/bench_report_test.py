@@ -277,6 +277,17 @@ class RoomReportTest(unittest.TestCase):
         self.assertIn("worst seed: 1.60× the exact start, 1.11× VO | **not met** |",
                       self.goal(text))
 
+    def test_the_load_of_the_machine_is_said(self):
+        sys.path.insert(0, os.path.join(HERE, "..", "scripts"))
+        import bench_report_room
+        room = {"date": "2026-12-05", "cpu": "Test CPU", "cpus": 2, "commit": "abc1234",
+                "frames": 600, "seeds": [self.seed(1, 0.02, 0.010, 0.011)],
+                "load_start": [2.5, 1.0, 0.5], "load_end": [1.0, 2.0, 3.3]}
+        self.assertIn("(load average at the start 2.5, over the last 15 minutes 3.3",
+                      bench_report_room.section(room))
+        del room["load_start"], room["load_end"]
+        self.assertNotIn("load average", bench_report_room.section(room))
+
     def test_old_results_without_the_prior(self):
         seed = self.seed(1, 0.02, 0.010, 0.010)
         del seed["prior"]
