@@ -206,6 +206,39 @@ TEST(PlaneAssociationTest, BiasedPlaneIsDisabledAfterEnoughBas) {
   EXPECT_EQ(planes.Associate(point(0, 0.0))->plane_id, 0);
 }
 
+// Point fusion and forgetting remove points from the map, and with them their distances from the
+// plane statistics (ForgetPoint). A plane whose every point went that way has nothing to be judged
+// by: its statistics start again instead of taking the median of no values (a room run crashed
+// there, session 40).
+TEST(PlaneAssociationTest, APlaneWhosePointsWereAllForgottenStartsAgain) {
+  PlaneMap map;
+  map.planes.push_back(MakePlane(0, Plane(Eigen::Vector3d(0, 0, 1), -10.0),
+                                 {{0, 0, 10}, {9, 0, 10}, {9, 5, 10}, {0, 5, 10}}, 45));
+  PlaneAssociationOptions options;
+  options.bias_min_points = 5;
+  PlaneAssociator planes(map, options);
+  auto point = [](int i, double offset) {
+    PointEstimate e;
+    e.point_in_map = Eigen::Vector3d(0.5 + 0.1 * i, 0.5 + 0.05 * i, 10.0 + offset);
+    e.covariance = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
+    return e;
+  };
+  for (int i = 0; i < 8; ++i) planes.Record(i, point(i, 0.01));
+  planes.UpdateHealth(8);
+  EXPECT_EQ(planes.health(0).points, 8);
+  EXPECT_NEAR(planes.health(0).median, 0.01, 1e-9);
+  for (int i = 0; i < 8; ++i) planes.ForgetPoint(i);
+  planes.UpdateHealth(0);
+  EXPECT_EQ(planes.health(0).points, 0);
+  EXPECT_EQ(planes.health(0).median, 0.0);
+  EXPECT_FALSE(planes.health(0).disabled);
+  // New points are judged on their own.
+  for (int i = 0; i < 6; ++i) planes.Record(100 + i, point(i, -0.02));
+  planes.UpdateHealth(6);
+  EXPECT_EQ(planes.health(0).points, 6);
+  EXPECT_NEAR(planes.health(0).median, -0.02, 1e-9);
+}
+
 // Right after a map lock the trajectory itself may be off by the lock's error e: every point of a
 // plane facing along e then sits n.e off it. That is not the map's fault (issue 9: a 0.12 m
 // along-track lock error disabled the one correct wall across the road, and the error stayed).

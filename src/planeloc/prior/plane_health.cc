@@ -154,12 +154,20 @@ int PlaneHealthMonitor::UpdateHealth(const PlaneLookup& lookup, int associations
     if (state.health.points >= options_.bias_min_points) ++judged;
     if (!state.touched || state.health.disabled) continue;
     state.touched = false;
-    touched.push_back(index);
     values.clear();
     for (const auto& [id, s] : state.distance_by_point) values.push_back(s);
+    PlaneHealth& health = state.health;
+    if (values.empty()) {
+      // Every point recorded on the plane has since been fused into another or forgotten
+      // (ForgetPoint): nothing is left to judge it by until new points arrive. (The median of no
+      // values read past the end: a room run crashed here, docs/experiments.md, session 40.)
+      health = PlaneHealth{};
+      state.bias2 = 0;
+      continue;
+    }
+    touched.push_back(index);
     const std::size_t n = values.size();
     const RobustLocation location = RobustMedian(values);
-    PlaneHealth& health = state.health;
     const bool was_judged = health.points >= options_.bias_min_points;
     health.points = static_cast<int>(n);
     health.median = location.median;

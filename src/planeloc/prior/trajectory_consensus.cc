@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <utility>
 
 namespace planeloc {
 
 RobustLocation RobustMedian(std::vector<double>& values) {
+  if (values.empty()) throw std::invalid_argument("RobustMedian: no values");
   const std::size_t n = values.size();
   auto mid = values.begin() + static_cast<std::ptrdiff_t>(n / 2);
   std::nth_element(values.begin(), mid, values.end());
