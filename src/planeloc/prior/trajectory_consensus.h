@@ -16,9 +16,9 @@ struct RobustLocation {
   double standard_error = 0;  // of the median
 };
 
-// Median of `values` (reordered; std::invalid_argument when empty) and its standard error from the MAD (Gaussian:
-// sigma = 1.4826 MAD, standard error of a median ~1.2533 sigma / sqrt(n)), with a 5 mm floor on
-// sigma: plane maps and stereo are not better than that.
+// Median of `values` (reordered; std::invalid_argument when empty) and its standard error from the
+// MAD (Gaussian: sigma = 1.4826 MAD, standard error of a median ~1.2533 sigma / sqrt(n)), with a 5
+// mm floor on sigma: plane maps and stereo are not better than that.
 RobustLocation RobustMedian(std::vector<double>& values);
 
 // One facade's signed distances of the window's points (their visual estimates), metres.
